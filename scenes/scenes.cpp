@@ -1,0 +1,184 @@
+// scenes.cpp - choreography of the two scenes (SPEC "The intro", thesis 5.6).
+// World: y up, the ground at y = 0, units are roughly metres.
+#include "scenes.h"
+
+namespace {
+
+// Each scene fades in over its first kFadeSeconds and out over its last, so
+// the cuts at 32 s and 64 s pass through black instead of popping. Every
+// light term is linear in the lights, ambient and background, so scaling
+// those three fades the whole picture exactly.
+constexpr float kFadeSeconds = 0.8f;
+
+void apply_fade(Scene& s, float t) {
+  float f = smooth01(t / kFadeSeconds) * smooth01((kSceneSeconds - t) / kFadeSeconds);
+  for (int i = 0; i < s.numLights; ++i) s.lights[i].color = s.lights[i].color * f;
+  s.ambient = s.ambient * f;
+  s.background = s.background * f;
+}
+
+Material phong(Vec3 color, float diffuse, float specular, float shininess, float reflect,
+               float transmit = 0, float ior = 1) {
+  return Material{color, diffuse, specular, shininess, reflect, transmit, ior, 1.0f, 0.0f};
+}
+
+Material cook(Vec3 color, float diffuse, float specular, float roughness, float f0,
+              float reflect, float transmit = 0, float ior = 1) {
+  return Material{color, diffuse, specular, 1.0f, reflect, transmit, ior, roughness, f0};
+}
+
+// Unit vector tilted `tilt` radians from +y towards azimuth `azimuth`.
+Vec3 tilted_up(float tilt, float azimuth) {
+  float st = rt_sin(tilt);
+  return v3(st * rt_cos(azimuth), rt_cos(tilt), st * rt_sin(azimuth));
+}
+
+}  // namespace
+
+// Scene 1: two cones one above the other; a red mirror sphere sways between
+// them and, on its rising swing, knocks the upper (inverted) cone, which
+// rocks with a damped swing and then sinks slowly towards the lower one. Two
+// glass spheres orbit around them in opposite directions, one above the
+// other, over a dark mirror floor.
+void build_scene1(Scene& s, float t) {
+  scene_clear(s);
+  s.model = kPhong;
+  s.background = v3(0.015f, 0.02f, 0.05f);
+  s.ambient = v3(0.05f, 0.05f, 0.08f);
+  s.maxDepth = 5;
+
+  // The mirror sphere swings along x through the gap, rising a little each
+  // pass, and its top meets the upper cone's apex at x = 0 at kKnock. From
+  // then on its path opens from a line into an ellipse around the cones, so
+  // it clears the cone as that sinks.
+  constexpr float kKnock = 9.0f;  // seconds: the contact
+  constexpr float kSwing = 0.55f; // rad/s of the swing phase
+  constexpr float kBallR = 0.55f;
+  constexpr float kApexY = 3.55f; // the upper cone's apex before it sinks
+  float since = t - kKnock;
+  float phase = kSwing * since;   // x = 0 at the knock
+  float ballY = kApexY - kBallR - 0.5f * smooth01(1.0f - t / kKnock) -
+                0.25f * smooth01(since / 6.0f);
+  Vec3 ball = v3(1.9f * rt_sin(phase), ballY + 0.06f * rt_sin(2.1f * since),
+                 -1.7f * smooth01(since / 4.0f) * rt_cos(phase));
+
+  // Upper cone: apex down, hanging from its base. The knock sets it rocking
+  // about the base with a damped swing; then it sinks slowly by itself.
+  float rock = 0, sink = 0;
+  if (since > 0) {
+    rock = 0.3f * rt_exp(-since / 5.0f) * rt_sin(1.9f * since);
+    sink = 1.0f * smooth01(since / 21.0f);
+  }
+  constexpr float kUpperH = 1.9f;
+  Vec3 down = tilted_up(kPi - rock, 0.0f);  // unit axis from base to apex
+  Vec3 coneBase = v3(0, kApexY + kUpperH - sink, 0);
+
+  Material coneMat = phong(v3(0.22f, 0.35f, 0.95f), 0.75f, 0.6f, 40.0f, 0.18f);
+  Material upperMat = phong(v3(0.95f, 0.75f, 0.25f), 0.75f, 0.7f, 50.0f, 0.2f);
+  Material ballMat = phong(v3(1.0f, 0.2f, 0.15f), 0.25f, 0.9f, 90.0f, 0.75f);
+  Material glass = phong(v3(0.92f, 0.97f, 1.0f), 0.04f, 0.9f, 140.0f, 0.12f, 0.85f, 1.5f);
+
+  // Lower cone: a frustum open at its top, standing on the floor.
+  scene_add(s, make_cone(v3(0, 0, 0), v3(0, 1, 0), 1.5f, 0.32f, 1.75f, kCapBase), coneMat);
+  scene_add(s, make_cone(coneBase, down, 1.25f, 0.0f, kUpperH, kCapBase), upperMat);
+  scene_add(s, make_sphere(ball, kBallR), ballMat);
+  float orbit = 0.38f * t;
+  scene_add(s, make_sphere(v3(3.4f * rt_cos(orbit), 1.0f, 3.4f * rt_sin(orbit)), 0.75f), glass);
+  scene_add(s, make_sphere(v3(3.4f * rt_cos(-orbit + 2.2f), 3.7f, 3.4f * rt_sin(-orbit + 2.2f)),
+                           0.65f),
+            glass);
+  scene_add_background(s, make_plane(v3(0, 1, 0), 0.0f),
+                       phong(v3(0.35f, 0.38f, 0.5f), 0.55f, 0.3f, 30.0f, 0.45f));
+
+  scene_add_light(s, v3(-6.0f, 9.0f, -5.0f), v3(0.95f, 0.85f, 0.75f));
+  scene_add_light(s, v3(5.0f, 4.0f, -3.0f), v3(0.25f, 0.35f, 0.6f));
+
+  float sway = 0.35f * rt_sin(kTwoPi * t / kSceneSeconds);
+  s.camera = Camera{v3(9.5f * rt_sin(sway), 3.2f, -9.5f * rt_cos(sway)), v3(0, 2.0f, 0),
+                    v3(0, 1, 0), 50.0f * kPi / 180.0f};
+  apply_fade(s, t);
+}
+
+// Scene 2: three overlapping gold spheres flow around each other between two
+// rotating glass cylinders, on a two-triangle stage, under a bright sky; the
+// camera circles and rises.
+void build_scene2(Scene& s, float t) {
+  scene_clear(s);
+  s.model = kCookTorrance;
+  s.background = v3(0.62f, 0.76f, 0.95f);
+  s.ambient = v3(0.22f, 0.24f, 0.28f);
+  s.maxDepth = 5;
+
+  Material gold = cook(v3(1.0f, 0.76f, 0.33f), 0.35f, 0.9f, 0.22f, 0.85f, 0.55f);
+  Material glassA = cook(v3(1.0f, 0.45f, 0.75f), 0.08f, 0.8f, 0.12f, 0.05f, 0.12f, 0.8f, 1.45f);
+  Material glassB = cook(v3(0.35f, 0.95f, 0.85f), 0.08f, 0.8f, 0.12f, 0.05f, 0.12f, 0.8f, 1.45f);
+  Material stage = cook(v3(0.95f, 0.55f, 0.3f), 0.8f, 0.35f, 0.35f, 0.1f, 0.25f);
+
+  // The "flowing mass": three spheres on interleaved Lissajous paths about a
+  // common centre, close enough that they always overlap.
+  for (int i = 0; i < 3; ++i) {
+    float ph = t * 0.55f + (float)i * (kTwoPi / 3.0f);
+    Vec3 c = v3(1.1f * rt_sin(ph) + 0.35f * rt_sin(1.7f * t + (float)i),
+                1.25f + 0.35f * rt_sin(1.3f * ph + 0.8f * (float)i),
+                0.8f * rt_cos(ph * 1.15f));
+    scene_add(s, make_sphere(c, 0.95f - 0.08f * (float)i), gold);
+  }
+  // Two glass cylinders bounding the motion left and right, each tilted and
+  // precessing about the vertical, in opposite senses.
+  for (int side = 0; side < 2; ++side) {
+    float sign = side ? 1.0f : -1.0f;
+    Vec3 axis = tilted_up(0.38f, sign * 0.7f * t + (float)side * kPi);
+    Vec3 centre = v3(3.05f * sign, 1.8f, 0.0f);
+    scene_add(s, make_cylinder(centre - axis * 1.5f, axis, 0.55f, 3.0f, kCapBase | kCapTop),
+              side ? glassB : glassA);
+  }
+  // Stage: a square of two triangles.
+  constexpr float kHalf = 7.0f;
+  Vec3 a = v3(-kHalf, 0, -kHalf), b = v3(kHalf, 0, -kHalf), c = v3(kHalf, 0, kHalf),
+       d = v3(-kHalf, 0, kHalf);
+  scene_add_background(s, make_triangle(a, c, b), stage);
+  scene_add_background(s, make_triangle(a, d, c), stage);
+
+  scene_add_light(s, v3(-5.0f, 8.0f, -6.0f), v3(1.0f, 0.95f, 0.88f));
+  scene_add_light(s, v3(6.0f, 5.0f, -2.0f), v3(0.55f, 0.6f, 0.75f));
+
+  float orbit = -0.9f + 1.8f * smooth01(t / kSceneSeconds);
+  float height = 2.2f + 1.6f * rt_sin(kPi * t / kSceneSeconds);
+  s.camera = Camera{v3(10.0f * rt_sin(orbit), height, -10.0f * rt_cos(orbit)), v3(0, 1.4f, 0),
+                    v3(0, 1, 0), 48.0f * kPi / 180.0f};
+  apply_fade(s, t);
+}
+
+float timeline_wrap(double t) {
+  if (!(t - t == 0.0)) return 0.0f;  // NaN or Inf
+  constexpr double kLoop = kTimelineSeconds;
+  // Beyond 2^52 a double is an integer multiple of 64 s only when large
+  // enough; such times carry no sub-loop information anyway.
+  if (t >= 4503599627370496.0 || t <= -4503599627370496.0) return 0.0f;
+  double q = t / kLoop;
+  long long n = (long long)q;
+  if ((double)n > q) --n;  // floor for negatives
+  double w = t - (double)n * kLoop;
+  if (w < 0) w = 0;
+  float wf = (float)w;
+  return wf >= kTimelineSeconds ? 0.0f : wf;
+}
+
+TimelineState timeline_state(double t) {
+  float w = timeline_wrap(t);
+  TimelineState st;
+  st.scene = w < kSceneSeconds ? 1 : 2;
+  st.sceneTime = st.scene == 1 ? w : w - kSceneSeconds;
+  st.showBlocks = st.scene == 2 && st.sceneTime >= kBlocksViewStart &&
+                  st.sceneTime < kBlocksViewStart + kBlocksViewSeconds;
+  return st;
+}
+
+TimelineState build_timeline_scene(Scene& s, double t) {
+  TimelineState st = timeline_state(t);
+  if (st.scene == 1)
+    build_scene1(s, st.sceneTime);
+  else
+    build_scene2(s, st.sceneTime);
+  return st;
+}

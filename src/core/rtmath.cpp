@@ -1,0 +1,95 @@
+// rtmath.cpp - our own transcendental functions (no libm in the exe).
+// Formulas: Cody-Waite style reduction by pi/2 and Taylor polynomials
+// (Abramowitz & Stegun 4.3.65/4.3.66 for sin/cos, 4.4.40 for asin), the
+// atanh series for log (A&S 4.1.27). Truncation errors are stated per function;
+// test_math.cpp measures the total error against libm.
+#include "rtmath.h"
+
+namespace {
+
+// sin(r) and cos(r) for |r| <= pi/4 in double. Truncation after r^13 and
+// r^14: (pi/4)^15/15! < 3e-14, far below float's 6e-8.
+double sin_poly(double r) {
+  double r2 = r * r;
+  return r * (1 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
+         r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0)))))));
+}
+double cos_poly(double r) {
+  double r2 = r * r;
+  return 1 + r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 +
+         r2 * (-1.0 / 3628800 + r2 * (1.0 / 479001600 + r2 * (-1.0 / 87178291200.0)))))));
+}
+
+// sin(x + quadrant * pi/2).
+float sin_quadrant(float x, int quadrant) {
+  constexpr double kTwoOverPi = 0.63661977236758134;
+  constexpr double kHalfPi = 1.5707963267948966;  // error 6e-17: k*6e-17 < 1e-11 for |x|<1e5
+  double xd = x;
+  i32 k = rt_round(xd * kTwoOverPi);
+  double r = xd - k * kHalfPi;
+  switch ((k + quadrant) & 3) {
+  case 0: return (float)sin_poly(r);
+  case 1: return (float)cos_poly(r);
+  case 2: return (float)-sin_poly(r);
+  default: return (float)-cos_poly(r);
+  }
+}
+
+// asin(z) for |z| <= 0.5 by its Taylor series; coefficients by the recurrence
+// c_n = c_{n-1} (2n-1)^2 / (2n (2n+1)). 12 terms: remainder < 1e-10.
+double asin_small(double z) {
+  double z2 = z * z, term = z, sum = z;
+  for (int n = 1; n <= 12; ++n) {
+    term *= z2 * (2 * n - 1) * (2 * n - 1) / ((2.0 * n) * (2 * n + 1));
+    sum += term;
+  }
+  return sum;
+}
+
+}  // namespace
+
+float rt_sin(float x) { return sin_quadrant(x, 0); }
+float rt_cos(float x) { return sin_quadrant(x, 1); }
+
+float rt_exp2(float x) {
+  if (!(x > -126.0f)) return 0.0f;  // underflow (and NaN) -> 0: a light term that vanishes
+  if (x > 127.0f) x = 127.0f;       // saturate: 2^127 is finite; no Inf leaves this function
+  i32 k = rt_round(x);
+  float f = (x - (float)k) * 0.693147180559945f;  // |f| <= ln2/2
+  // e^f, Taylor to f^7: truncation (ln2/2)^8/8! = 5e-9.
+  float p = 1 + f * (1 + f * (0.5f + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 +
+            f * (1.0f / 720 + f * (1.0f / 5040)))))));
+  return p * rt_from_bits((u32)(k + 127) << 23);
+}
+
+float rt_exp(float x) { return rt_exp2(x * 1.44269504088896f); }
+
+float rt_log2(float x) {
+  if (!(x >= 1.17549435e-38f)) return -126.0f;  // zero, negative, denormal, NaN
+  u32 b = rt_bits(x);
+  i32 e = (i32)((b >> 23) & 255) - 127;
+  float m = rt_from_bits((b & 0x7fffffu) | 0x3f800000u);  // [1, 2)
+  if (m > 1.41421356f) {
+    m *= 0.5f;
+    ++e;
+  }
+  // log(m) = 2 atanh(s), s = (m-1)/(m+1), |s| <= 0.1716; series to s^9:
+  // truncation 2 s^11/11 < 7e-10.
+  float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
+  float ln = 2 * s * (1 + s2 * (1.0f / 3 + s2 * (1.0f / 5 + s2 * (1.0f / 7 + s2 * (1.0f / 9)))));
+  return (float)e + ln * 1.44269504088896f;
+}
+
+float rt_pow(float x, float y) {
+  if (y == 0.0f) return 1.0f;
+  if (!(x > 0.0f)) return 0.0f;
+  return rt_exp2(y * rt_log2(x));
+}
+
+float rt_acos(float x) {
+  constexpr double kHalfPi = 1.5707963267948966;
+  double z = rt_clamp(x, -1.0f, 1.0f);
+  if (z > 0.5) return (float)(2 * asin_small(__builtin_sqrt((1 - z) * 0.5)));
+  if (z < -0.5) return (float)(2 * kHalfPi - 2 * asin_small(__builtin_sqrt((1 + z) * 0.5)));
+  return (float)(kHalfPi - asin_small(z));
+}

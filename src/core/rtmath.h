@@ -1,0 +1,94 @@
+// rtmath.h - freestanding scalar and vector maths for rt64k.
+//
+// Contract: no C runtime, no standard library, no heap. Every function here is
+// usable from the CRT-free Win32 exe and from the Linux tool and tests alike.
+// The core is compiled with RT64K_FP_FLAGS (see CMakeLists.txt): IEEE floats,
+// no fast-math, no FP contraction, no errno, so sqrt is one SSE instruction.
+//
+// Accuracy of each function over its documented range is measured against
+// libm by tests/test_math.cpp; the figures quoted here are those limits.
+#pragma once
+
+typedef unsigned char u8;
+typedef unsigned short u16;
+typedef unsigned int u32;
+typedef int i32;
+typedef unsigned long long u64;
+
+constexpr float kPi = 3.14159265358979f;
+constexpr float kTwoPi = 6.28318530717959f;
+constexpr float kHuge = 1e30f;  // "no hit yet" distance; far above any scene's scale
+
+inline float rt_abs(float x) { return x < 0 ? -x : x; }
+inline float rt_min(float a, float b) { return a < b ? a : b; }
+inline float rt_max(float a, float b) { return a > b ? a : b; }
+inline float rt_clamp(float x, float lo, float hi) { return x < lo ? lo : (x > hi ? hi : x); }
+inline bool rt_finite(float x) { return x - x == 0.0f; }  // false for NaN and +-Inf
+
+// Correctly rounded (one sqrtss); negative input gives NaN, so callers clamp.
+inline float rt_sqrt(float x) { return __builtin_sqrtf(x); }
+
+inline u32 rt_bits(float x) { return __builtin_bit_cast(u32, x); }
+inline float rt_from_bits(u32 b) { return __builtin_bit_cast(float, b); }
+
+// Round to nearest integer (ties away from zero); valid for |x| < 2^31.
+inline i32 rt_round(float x) { return (i32)(x + (x < 0 ? -0.5f : 0.5f)); }
+inline i32 rt_round(double x) { return (i32)(x + (x < 0 ? -0.5 : 0.5)); }
+// Largest integer <= x; valid for |x| < 2^31.
+inline float rt_floor(float x) {
+  float t = (float)(i32)x;
+  return t > x ? t - 1.0f : t;
+}
+
+// sin and cos of x in radians. Reduction by pi/2 and the polynomials run in
+// double, so the result is within 1 ulp of float for |x| <= 1e5 (measured in
+// test_math: see README). Scenes and the synth use |x| < 1e4.
+float rt_sin(float x);
+float rt_cos(float x);
+// 2^x, e^x: relative error <= 4e-7 for results in the normal float range;
+// underflow returns 0, overflow saturates to 2^128-ish (never Inf).
+float rt_exp2(float x);
+float rt_exp(float x);
+// log2(x) for x > 0 (x <= 0 returns -126, the smallest normal exponent).
+float rt_log2(float x);
+// x^y for x >= 0; pow(0, y > 0) = 0. Used by Phong's (V.R)^h.
+float rt_pow(float x, float y);
+// acos(x) for x in [-1, 1] (clamped); absolute error <= 2e-7 rad.
+float rt_acos(float x);
+
+struct Vec3 {
+  float x, y, z;
+};
+
+inline Vec3 v3(float x, float y, float z) { return Vec3{x, y, z}; }
+inline Vec3 v3(float s) { return Vec3{s, s, s}; }
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
+inline Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+inline Vec3 operator*(float s, Vec3 a) { return {a.x * s, a.y * s, a.z * s}; }
+inline Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline Vec3& operator+=(Vec3& a, Vec3 b) { return a = a + b; }
+inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline float length(Vec3 a) { return rt_sqrt(dot(a, a)); }
+inline float max_abs(Vec3 a) { return rt_max(rt_abs(a.x), rt_max(rt_abs(a.y), rt_abs(a.z))); }
+inline float comp(Vec3 a, int i) { return i == 0 ? a.x : (i == 1 ? a.y : a.z); }
+
+// Unit vector along a. A zero-length (or denormal-length) input returns
+// `fallback`, so no NaN comes out of a degenerate configuration.
+inline Vec3 normalize(Vec3 a, Vec3 fallback = Vec3{0, 1, 0}) {
+  float len2 = dot(a, a);
+  if (!(len2 > 1e-30f)) return fallback;  // 1e-30: far below any real length^2, above denormals
+  return a * (1.0f / rt_sqrt(len2));
+}
+
+inline Vec3 lerp(Vec3 a, Vec3 b, float t) { return a + (b - a) * t; }
+inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
+// Cubic smoothstep of t clamped to [0, 1]: 0 and 1 with zero slope at the ends.
+inline float smooth01(float t) {
+  t = rt_clamp(t, 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}

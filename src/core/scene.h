@@ -1,0 +1,61 @@
+// scene.h - what a frame is made of: objects, lights, shading model, camera.
+// A scene is plain data, rebuilt each frame by a pure function of time
+// (scenes/scenes.h). Fixed-size arrays: no heap anywhere in the core.
+#pragma once
+#include "shapes.h"
+
+enum ShadingModel : u8 { kPhong, kCookTorrance };
+
+struct Material {
+  Vec3 color;       // surface albedo, linear RGB in [0, 1]
+  float diffuse;    // r_D
+  float specular;   // r_S
+  float shininess;  // Phong exponent h
+  float reflect;    // weight of the mirror-reflected colour
+  float transmit;   // weight of the refracted colour; also the shadow-ray transmittance
+  float ior;        // index of refraction of the solid (outside is 1.0, air)
+  float roughness;  // Cook-Torrance m (rms microfacet slope, radians), > 0
+  float f0;         // Cook-Torrance Fresnel reflectance at normal incidence
+};
+
+struct Light {
+  Vec3 pos;
+  Vec3 color;  // I_L, may exceed 1
+};
+
+struct Object {
+  Shape shape;
+  Material mat;
+};
+
+struct Camera {
+  Vec3 pos, target, up;
+  float fovY;  // vertical field of view, radians
+};
+
+constexpr int kMaxObjects = 16;
+constexpr int kMaxLights = 4;
+
+// Objects [0, numForeground) are foreground; [numForeground, numObjects) are
+// background objects (the ground). The background contract (SPEC, thesis
+// 5.2): a background object is tested only when no foreground object was hit,
+// and never by shadow rays. The scene's layout must make that true: nothing
+// of the background may stand in front of a foreground object.
+struct Scene {
+  Object objects[kMaxObjects];
+  int numObjects, numForeground;
+  Light lights[kMaxLights];
+  int numLights;
+  ShadingModel model;
+  Vec3 background;  // colour of a ray that hits nothing
+  Vec3 ambient;     // ambient light level, multiplied by the albedo once per hit
+  int maxDepth;     // primary ray is depth 1; no secondary rays beyond maxDepth
+  Camera camera;
+};
+
+// Appending helpers used by scene builders. Foreground objects must all be
+// added before the first background object.
+void scene_clear(Scene& s);
+void scene_add(Scene& s, const Shape& shape, const Material& m);
+void scene_add_background(Scene& s, const Shape& shape, const Material& m);
+void scene_add_light(Scene& s, Vec3 pos, Vec3 color);

@@ -1,0 +1,189 @@
+// shapes.cpp - ray/shape intersection under the contract in shapes.h.
+#include "shapes.h"
+
+Shape make_sphere(Vec3 centre, float radius) {
+  Shape s{};
+  s.kind = kSphere;
+  s.a = centre;
+  s.r0 = radius;
+  return s;
+}
+
+Shape make_plane(Vec3 normal, float offset) {
+  Shape s{};
+  s.kind = kPlane;
+  s.a = normalize(normal);
+  s.r0 = offset;
+  return s;
+}
+
+Shape make_cone(Vec3 base, Vec3 axis, float baseRadius, float topRadius, float height, u8 caps) {
+  Shape s{};
+  s.kind = baseRadius == topRadius ? kCylinder : kCone;
+  s.caps = caps;
+  s.a = base;
+  s.b = normalize(axis);
+  s.r0 = baseRadius;
+  s.r1 = topRadius;
+  s.h = height;
+  return s;
+}
+
+Shape make_cylinder(Vec3 base, Vec3 axis, float radius, float height, u8 caps) {
+  return make_cone(base, axis, radius, radius, height, caps);
+}
+
+Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
+  Shape s{};
+  s.kind = kTriangle;
+  s.a = a;
+  s.b = b;
+  s.c = c;
+  return s;
+}
+
+namespace {
+
+// Accepts t when it is the new nearest; writes the outward normal, then turns
+// it to face the ray.
+bool accept(float t, float tMin, Vec3 outward, const Ray& ray, Hit& hit) {
+  if (!(t > tMin && t < hit.t)) return false;
+  bool front = dot(outward, ray.dir) < 0;
+  hit.t = t;
+  hit.normal = front ? outward : -outward;
+  hit.front = front;
+  return true;
+}
+
+// Sphere, after Haines et al., "Precision Improvements for Ray/Sphere
+// Intersection" (Ray Tracing Gems ch. 7): discriminant r^2 - |f - (f.d)d|^2
+// and roots q = -(b + sign(b) sqrt(disc)), t0 = c/q, t1 = q (a = 1).
+bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  Vec3 f = ray.org - s.a;
+  float b = dot(f, ray.dir);
+  Vec3 perp = f - ray.dir * b;
+  float r2 = s.r0 * s.r0;
+  float disc = r2 - dot(perp, perp);
+  if (disc < 0) return false;
+  float c = dot(f, f) - r2;
+  float q = -(b + (b >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
+  // q == 0 only when b == 0 and disc == 0: a tangent ray through the centre's
+  // foot point from the centre itself (f = 0 and r = 0); no hit worth keeping.
+  if (q == 0) return false;
+  float t0 = c / q, t1 = q;
+  if (t0 > t1) {
+    float tmp = t0;
+    t0 = t1;
+    t1 = tmp;
+  }
+  float t = t0 > tMin ? t0 : t1;
+  if (!(t > tMin && t < hit.t)) return false;
+  Vec3 p = ray.org + ray.dir * t;
+  return accept(t, tMin, normalize((p - s.a) * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
+}
+
+bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  float denom = dot(s.a, ray.dir);
+  if (denom == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
+  float t = (s.r0 - dot(s.a, ray.org)) / denom;
+  return accept(t, tMin, s.a, ray, hit);  // t may be +-Inf for tiny denom: rejected by hit.t
+}
+
+// Finite cylinder / cone frustum. In the frame of the axis, with
+// v = perpendicular part of (org - base), u = perpendicular part of dir,
+// y(t) = y0 + t dy the axial coordinate and r(y) = r0 + k y (k = (r1-r0)/h):
+//   |v + t u|^2 = (r0 + k y(t))^2
+// gives A t^2 + 2 B t + C = 0 with
+//   A = u.u - k^2 dy^2,  B = u.v - k dy rk,  C = v.v - rk^2,  rk = r0 + k y0.
+// Roots by q = -(B + sign(B) sqrt(B^2 - AC)), t = q/A and C/q, which stays
+// exact when A -> 0 (ray parallel to a cone's side or to a cylinder's axis).
+bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  Vec3 axis = s.b;
+  Vec3 oc = ray.org - s.a;
+  float y0 = dot(oc, axis), dy = dot(ray.dir, axis);
+  Vec3 v = oc - axis * y0, u = ray.dir - axis * dy;
+  float k = (s.r1 - s.r0) / s.h;
+  float rk = s.r0 + k * y0;
+  float A = dot(u, u) - k * k * dy * dy;
+  float B = dot(u, v) - k * dy * rk;
+  float C = dot(v, v) - rk * rk;
+  bool found = false;
+  float disc = B * B - A * C;
+  if (disc >= 0) {
+    float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
+    float roots[2] = {A != 0 ? q / A : kHuge, q != 0 ? C / q : kHuge};
+    for (float t : roots) {
+      if (!(t > tMin && t < hit.t)) continue;
+      float y = y0 + t * dy;
+      if (y < 0 || y > s.h) continue;
+      // Outward normal: gradient of |p_perp|^2 - r(y)^2, i.e. p_perp - k r(y) axis.
+      // At a cone's apex p_perp = 0 and r = 0: the gradient vanishes, so the
+      // fallback is the axis direction (the apex's cap side).
+      Vec3 pPerp = v + u * t;
+      Vec3 n = normalize(pPerp - axis * (k * (s.r0 + k * y)), axis);
+      found |= accept(t, tMin, n, ray, hit);
+    }
+  }
+  // Caps: discs at y = 0 (normal -axis) and y = h (normal +axis).
+  if (s.caps && dy != 0) {
+    for (int cap = 0; cap < 2; ++cap) {
+      if (!(s.caps & (cap ? kCapTop : kCapBase))) continue;
+      float yc = cap ? s.h : 0.0f, rc = cap ? s.r1 : s.r0;
+      float t = (yc - y0) / dy;
+      if (!(t > tMin && t < hit.t)) continue;
+      Vec3 pPerp = v + u * t;
+      if (dot(pPerp, pPerp) > rc * rc) continue;
+      found |= accept(t, tMin, cap ? axis : -axis, ray, hit);
+    }
+  }
+  return found;
+}
+
+// Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1), 2013. Shear so the ray is +z, then 2D edge
+// functions U, V, W; a point on a shared edge gets the same edge function in
+// both triangles, so the ground quad's diagonal has no cracks. Edge functions
+// that come out exactly 0 are recomputed in double, as the paper does.
+bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  const Vec3& d = ray.dir;
+  float ax = rt_abs(d.x), ay = rt_abs(d.y), az = rt_abs(d.z);
+  int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  float dz = comp(d, kz);
+  if (dz < 0) {
+    int tmp = kx;
+    kx = ky;
+    ky = tmp;
+  }
+  float Sx = comp(d, kx) / dz, Sy = comp(d, ky) / dz, Sz = 1.0f / dz;
+  Vec3 A = s.a - ray.org, B = s.b - ray.org, C = s.c - ray.org;
+  float Ax = comp(A, kx) - Sx * comp(A, kz), Ay = comp(A, ky) - Sy * comp(A, kz);
+  float Bx = comp(B, kx) - Sx * comp(B, kz), By = comp(B, ky) - Sy * comp(B, kz);
+  float Cx = comp(C, kx) - Sx * comp(C, kz), Cy = comp(C, ky) - Sy * comp(C, kz);
+  float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
+  if (U == 0 || V == 0 || W == 0) {
+    U = (float)((double)Cx * By - (double)Cy * Bx);
+    V = (float)((double)Ax * Cy - (double)Ay * Cx);
+    W = (float)((double)Bx * Ay - (double)By * Ax);
+  }
+  if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
+  float det = U + V + W;
+  if (det == 0) return false;  // ray in the triangle's plane: edge-on, no area seen
+  float T = U * Sz * comp(A, kz) + V * Sz * comp(B, kz) + W * Sz * comp(C, kz);
+  float t = T / det;
+  return accept(t, tMin, normalize(cross(s.b - s.a, s.c - s.a)), ray, hit);
+}
+
+}  // namespace
+
+bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  switch (s.kind) {
+  case kSphere: return hit_sphere(s, ray, tMin, hit);
+  case kPlane: return hit_plane(s, ray, tMin, hit);
+  case kCylinder:
+  case kCone: return hit_frustum(s, ray, tMin, hit);
+  case kTriangle: return hit_triangle(s, ray, tMin, hit);
+  }
+  return false;
+}

@@ -1,0 +1,179 @@
+// trace.cpp - recursive Whitted ray tracing with Phong or Cook-Torrance shading.
+#include "trace.h"
+
+bool same_path(const PathRecord& a, const PathRecord& b) {
+  if (a.count != b.count) return false;
+  for (int i = 0; i < a.count; ++i)
+    if (a.node[i] != b.node[i]) return false;
+  return true;
+}
+
+namespace {
+
+// Nearest hit: foreground first; background objects only when no foreground
+// object was hit (the background contract in scene.h). Returns object index.
+int nearest(const Scene& s, const Ray& ray, Hit& hit) {
+  hit.t = kHuge;
+  int found = -1;
+  for (int i = 0; i < s.numForeground; ++i)
+    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+  if (found >= 0) return found;
+  for (int i = s.numForeground; i < s.numObjects; ++i)
+    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+  return found;
+}
+
+// Light transmitted from p towards a light at distance `dist` along unit L:
+// each foreground object on the way multiplies it by its transmit * colour
+// (a tinted shadow), an opaque one blocks it. `code` gets the shadow code of
+// PathRecord. Background objects cast no shadows (the contract).
+Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code) {
+  const Scene& s = *ctx.scene;
+  ++ctx.stats.shadow;
+  Ray ray{p, L};
+  Vec3 t = v3(1.0f);
+  int crossed = 0;
+  for (int i = 0; i < s.numForeground; ++i) {
+    Hit hit;
+    hit.t = dist;
+    if (!intersect(s.objects[i].shape, ray, 0.0f, hit)) continue;
+    const Material& m = s.objects[i].mat;
+    if (m.transmit <= 0) {
+      code = 3;
+      return v3(0.0f);
+    }
+    t = t * (m.color * m.transmit);
+    ++crossed;
+  }
+  code = crossed > 1 ? 2 : crossed;
+  return t;
+}
+
+// Cook-Torrance specular factor F D G / (N.V), the 1/(N.L) of the model
+// cancelled by the N.L of the incoming irradiance (Cook & Torrance 1982:
+// I_r = I_L (N.L) dw (s R_s + d R_d)). D's constant c = 1/(pi m^2) makes the
+// Gaussian lobe integrate to ~1 over the projected hemisphere for small m,
+// so roughness changes a highlight's width, not its energy.
+float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
+  Vec3 H = normalize(L + V, N);
+  float NdotH = rt_clamp(dot(N, H), 0.0f, 1.0f);
+  float NdotV = rt_max(dot(N, V), kCosEps);
+  float NdotL = rt_max(dot(N, L), 0.0f);
+  float VdotH = rt_max(dot(V, H), kCosEps);
+  float x = 1.0f - VdotH, x2 = x * x;
+  float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);
+  float a = rt_acos(NdotH) / m.roughness;
+  float D = rt_exp(-a * a) / (kPi * m.roughness * m.roughness);
+  float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
+  return F * D * G / NdotV;
+}
+
+Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
+
+}  // namespace
+
+Vec3 trace(TraceContext& ctx, const Ray& ray, int depth) {
+  const Scene& s = *ctx.scene;
+  Hit hit;
+  int id = nearest(s, ray, hit);
+  int slot = -1;
+  PathRecord* rec = ctx.record;
+  if (rec && depth <= kRecordDepth && rec->count < kMaxPathNodes) {
+    slot = rec->count++;
+    rec->node[slot] = (u16)(id + 1);
+  }
+  if (id < 0) return s.background;
+
+  const Material& m = s.objects[id].mat;
+  Vec3 N = hit.normal, V = -ray.dir;
+  Vec3 p = ray.org + ray.dir * hit.t;
+  Vec3 color = s.ambient * m.color;
+  Vec3 lightOrg = spawn_origin(p, N, N);
+  for (int li = 0; li < s.numLights; ++li) {
+    const Light& light = s.lights[li];
+    Vec3 toLight = light.pos - lightOrg;
+    float dist = length(toLight);
+    Vec3 L = toLight * (1.0f / rt_max(dist, 1e-20f));
+    float NdotL = dot(N, L);
+    int code = 3;
+    Vec3 through = v3(0.0f);
+    if (NdotL > 0) through = transmittance(ctx, lightOrg, L, dist, code);
+    if (slot >= 0) rec->node[slot] |= (u16)(code << (5 + 2 * li));
+    if (code == 3) continue;
+    Vec3 lit;
+    if (s.model == kPhong) {
+      float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
+      lit = m.color * (m.diffuse * NdotL) + v3(m.specular * rt_pow(VdotR, m.shininess));
+    } else {
+      lit = m.color * (m.diffuse * NdotL + m.specular * cook_torrance(m, N, V, L) * NdotL);
+    }
+    color += lit * light.color * through;
+  }
+
+  if (depth >= s.maxDepth) return color;
+  if (m.reflect > 0) {
+    Vec3 R = reflect(ray.dir, N);
+    ++ctx.stats.secondary;
+    color += trace(ctx, Ray{spawn_origin(p, N, R), R}, depth + 1) * m.reflect;
+  }
+  if (m.transmit > 0) {
+    // Snell: eta = n1/n2; entering (front) goes air -> solid.
+    float eta = hit.front ? 1.0f / m.ior : m.ior;
+    float cosI = dot(N, V);  // >= 0: N faces the ray
+    float sin2T = eta * eta * (1.0f - cosI * cosI);
+    Vec3 T;
+    if (sin2T > 1.0f) {
+      T = reflect(ray.dir, N);  // total internal reflection
+    } else {
+      T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
+    }
+    ++ctx.stats.secondary;
+    color += trace(ctx, Ray{spawn_origin(p, N, T), T}, depth + 1) * m.transmit;
+  }
+  return color;
+}
+
+int first_hit_object(const Scene& scene, const Ray& ray) {
+  Hit hit;
+  return nearest(scene, ray, hit);
+}
+
+CameraRays camera_rays(const Camera& cam, int width, int height) {
+  Vec3 fwd = normalize(cam.target - cam.pos, Vec3{0, 0, 1});
+  Vec3 right = normalize(cross(fwd, cam.up), Vec3{1, 0, 0});
+  Vec3 up = cross(right, fwd);
+  float halfH = rt_sin(cam.fovY * 0.5f) / rt_cos(cam.fovY * 0.5f);
+  float pixel = 2.0f * halfH / (float)height;  // square pixels
+  CameraRays c;
+  c.org = cam.pos;
+  c.dx = right * pixel;
+  c.dy = up * -pixel;
+  c.corner = fwd - c.dx * (0.5f * (float)width) - c.dy * (0.5f * (float)height);
+  return c;
+}
+
+u32 pack_color(Vec3 c) {
+  auto channel = [](float v) -> u32 {
+    if (!(v > 0.0f)) return 0;  // negative and NaN
+    if (v >= 1.0f) return 255;
+    return (u32)(v * 255.0f + 0.5f);
+  };
+  return 0xff000000u | channel(c.x) << 16 | channel(c.y) << 8 | channel(c.z);
+}
+
+void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride,
+                      int rowBegin, int rowEnd, RayStats* stats) {
+  TraceContext ctx{&scene, {0, 0, 0}, nullptr};
+  CameraRays cam = camera_rays(scene.camera, width, height);
+  for (int y = rowBegin; y < rowEnd; ++y) {
+    for (int x = 0; x < width; ++x) {
+      ++ctx.stats.primary;
+      fb[y * stride + x] = pack_color(trace(ctx, primary_ray(cam, (float)x, (float)y), 1));
+    }
+  }
+  if (stats) {
+    stats->primary += ctx.stats.primary;
+    stats->secondary += ctx.stats.secondary;
+    stats->shadow += ctx.stats.shadow;
+  }
+}

@@ -1,0 +1,61 @@
+// trace.h - the recursive ray tracer, shading, camera and the full-trace renderer.
+#pragma once
+#include "scene.h"
+
+// Counts of rays cast, for the bench's rays-per-pixel figures.
+struct RayStats {
+  u64 primary, secondary, shadow;
+};
+
+// What the adaptive renderer compares between a block's corners (thesis
+// 5.5.1): one node per traced ray up to depth kRecordDepth, in depth-first
+// order (primary, then its reflection subtree, then its refraction subtree).
+// A node packs the object hit (index + 1; 0 = nothing) in bits 0..4 and, per
+// light i, a 2-bit shadow code in bits 5+2i: 0 lit, 1 behind one transparent
+// object, 2 behind several, 3 blocked (or facing away from the light).
+constexpr int kRecordDepth = 3;
+constexpr int kMaxPathNodes = 7;  // a full binary tree of depth 3
+struct PathRecord {
+  u8 count;
+  u16 node[kMaxPathNodes];
+};
+bool same_path(const PathRecord& a, const PathRecord& b);
+
+struct TraceContext {
+  const Scene* scene;
+  RayStats stats;
+  PathRecord* record;  // may be null: nothing recorded
+};
+
+// Colour seen along `ray` (unit direction). depth is 1 for a primary ray.
+// The result is finite and non-negative in every channel.
+Vec3 trace(TraceContext& ctx, const Ray& ray, int depth);
+
+// Index of the object a ray sees first (foreground before background, as
+// trace() does), or -1 when it sees nothing.
+int first_hit_object(const Scene& scene, const Ray& ray);
+
+// Pinhole camera set up once per frame: pixel (x, y) (x right, y down, both
+// from 0) looks through its centre (x + 0.5, y + 0.5).
+struct CameraRays {
+  Vec3 org, corner, dx, dy;
+};
+CameraRays camera_rays(const Camera& cam, int width, int height);
+inline Ray primary_ray(const CameraRays& c, float x, float y) {
+  return Ray{c.org, normalize(c.corner + c.dx * (x + 0.5f) + c.dy * (y + 0.5f))};
+}
+
+// 0xAARRGGBB (BGRA in memory, as a Win32 DIB wants), channels clamped to
+// [0, 1] and rounded; NaN maps to 0.
+u32 pack_color(Vec3 c);
+
+// Full trace (every pixel) of rows [rowBegin, rowEnd) into a caller-owned
+// framebuffer of `width` x `height` pixels with `stride` pixels per row.
+void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride,
+                      int rowBegin, int rowEnd, RayStats* stats);
+
+// Constants of the shading model, named for the tests and docs.
+// kCosEps: floor of N.V and V.H in Cook-Torrance, so 1/(N.V) and 1/(V.H)
+// stay finite at grazing angles. 1e-4 is cos(89.994 deg): the clamp only
+// acts within 0.006 deg of grazing, where G has already driven the term to 0.
+constexpr float kCosEps = 1e-4f;

@@ -1,0 +1,270 @@
+// rt64k - the Linux command-line tool: look at any frame of the intro.
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "frame.h"
+
+namespace {
+
+const char* kUsage =
+    "rt64k - headless renderer of the rt64k intro\n"
+    "\n"
+    "usage:\n"
+    "  rt64k render --time T [--size WxH] [--view color|ids] [--threads N] --out FILE.png\n"
+    "      one frame of the 64-s timeline at time T seconds (any finite T; it loops)\n"
+    "  rt64k scene --time T [--size WxH]\n"
+    "      the scene state at time T as JSON on stdout\n"
+    "  rt64k sheet --out FILE.png [--threads N]\n"
+    "      a contact sheet: 16 frames across the 64 s (scene 1 on top, scene 2 below)\n"
+    "  rt64k --help\n"
+    "\n"
+    "defaults: --size 800x600, --view color, --threads = all cores\n"
+    "exit codes: 0 ok, 2 bad arguments or output not writable\n";
+
+struct UsageError {
+  std::string message;
+};
+
+[[noreturn]] void fail(const std::string& message) { throw UsageError{message}; }
+
+// Options of one command: "--name value" pairs, each allowed name listed.
+struct Options {
+  std::map<std::string, std::string> values;
+
+  Options(int argc, char** argv, int first, const std::vector<std::string>& allowed) {
+    for (int i = first; i < argc; ++i) {
+      std::string name = argv[i];
+      bool known = false;
+      for (const auto& a : allowed) known |= a == name;
+      if (!known) fail("unknown option '" + name + "'");
+      if (i + 1 >= argc) fail("option " + name + " needs a value");
+      if (values.count(name)) fail("option " + name + " given twice");
+      values[name] = argv[++i];
+    }
+  }
+  bool has(const std::string& name) const { return values.count(name) != 0; }
+  std::string get(const std::string& name, const std::string& def = "") const {
+    auto it = values.find(name);
+    return it == values.end() ? def : it->second;
+  }
+  std::string require(const std::string& name) const {
+    if (!has(name)) fail("missing required option " + name);
+    return get(name);
+  }
+};
+
+double parse_time(const std::string& text) {
+  const char* s = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  double t = std::strtod(s, &end);
+  if (text.empty() || *end != '\0' || end == s) fail("--time: '" + text + "' is not a number");
+  if (!std::isfinite(t) || errno == ERANGE)
+    fail("--time: '" + text + "' is not a finite number");
+  return t;
+}
+
+long parse_int(const std::string& text, const std::string& what, long lo, long hi) {
+  const char* s = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  long v = std::strtol(s, &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+    fail(what + ": '" + text + "' is not an integer in [" + std::to_string(lo) + ", " +
+         std::to_string(hi) + "]");
+  return v;
+}
+
+// Largest side accepted by --size: 16384 px (a 1 GiB framebuffer at 16384^2).
+constexpr long kMaxSide = 16384;
+
+void parse_size(const std::string& text, int& w, int& h) {
+  size_t x = text.find('x');
+  if (x == std::string::npos) fail("--size: '" + text + "' is not WxH (e.g. 800x600)");
+  w = int(parse_int(text.substr(0, x), "--size width", 1, kMaxSide));
+  h = int(parse_int(text.substr(x + 1), "--size height", 1, kMaxSide));
+}
+
+int parse_threads(const Options& o) {
+  if (!o.has("--threads")) return default_threads();
+  return int(parse_int(o.get("--threads"), "--threads", 1, 256));
+}
+
+void save(const std::string& path, const Image& img) {
+  std::string error;
+  if (!write_png(path, img, error)) fail(error);
+}
+
+int cmd_render(int argc, char** argv) {
+  Options o(argc, argv, 2, {"--time", "--size", "--view", "--threads", "--out"});
+  double t = parse_time(o.require("--time"));
+  std::string out = o.require("--out");
+  int w = 800, h = 600;
+  if (o.has("--size")) parse_size(o.get("--size"), w, h);
+  std::string viewName = o.get("--view", "color");
+  View view;
+  if (viewName == "color")
+    view = View::Color;
+  else if (viewName == "ids")
+    view = View::Ids;
+  else
+    fail("--view: '" + viewName + "' is not one of color, ids");
+  int threads = parse_threads(o);
+  Scene scene;
+  build_timeline_scene(scene, t);
+  Image img(w, h);
+  render_frame(scene, img, view, threads, nullptr);
+  save(out, img);
+  return 0;
+}
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+std::string vec(Vec3 v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+std::string hex(uint32_t c) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "\"#%06x\"", c & 0xffffffu);
+  return buf;
+}
+
+const char* kind_name(ShapeKind k) {
+  switch (k) {
+  case kSphere: return "sphere";
+  case kPlane: return "plane";
+  case kCylinder: return "cylinder";
+  case kCone: return "cone";
+  case kTriangle: return "triangle";
+  }
+  return "?";
+}
+
+std::string shape_json(const Shape& s) {
+  std::string j = "{\"kind\": \"" + std::string(kind_name(s.kind)) + "\"";
+  switch (s.kind) {
+  case kSphere: j += ", \"center\": " + vec(s.a) + ", \"radius\": " + num(s.r0); break;
+  case kPlane: j += ", \"normal\": " + vec(s.a) + ", \"offset\": " + num(s.r0); break;
+  case kCylinder:
+  case kCone:
+    j += ", \"base\": " + vec(s.a) + ", \"axis\": " + vec(s.b) + ", \"base_radius\": " +
+         num(s.r0) + ", \"top_radius\": " + num(s.r1) + ", \"height\": " + num(s.h) +
+         ", \"cap_base\": " + (s.caps & kCapBase ? "true" : "false") +
+         ", \"cap_top\": " + (s.caps & kCapTop ? "true" : "false");
+    break;
+  case kTriangle: j += ", \"vertices\": [" + vec(s.a) + ", " + vec(s.b) + ", " + vec(s.c) + "]"; break;
+  }
+  return j + "}";
+}
+
+std::string material_json(const Material& m, ShadingModel model) {
+  std::string j = "{\"color\": " + vec(m.color) + ", \"diffuse\": " + num(m.diffuse) +
+                  ", \"specular\": " + num(m.specular) + ", \"reflect\": " + num(m.reflect) +
+                  ", \"transmit\": " + num(m.transmit) + ", \"ior\": " + num(m.ior);
+  if (model == kPhong)
+    j += ", \"shininess\": " + num(m.shininess);
+  else
+    j += ", \"roughness\": " + num(m.roughness) + ", \"f0\": " + num(m.f0);
+  return j + "}";
+}
+
+int cmd_scene(int argc, char** argv) {
+  Options o(argc, argv, 2, {"--time", "--size"});
+  double t = parse_time(o.require("--time"));
+  int w = 800, h = 600;
+  if (o.has("--size")) parse_size(o.get("--size"), w, h);
+  Scene s;
+  TimelineState st = build_timeline_scene(s, t);
+  std::string j = "{\n";
+  j += "  \"time\": " + num(t) + ",\n";
+  j += "  \"timeline_time\": " + num(timeline_wrap(t)) + ",\n";
+  j += "  \"scene\": " + std::to_string(st.scene) + ",\n";
+  j += "  \"scene_time\": " + num(st.sceneTime) + ",\n";
+  j += "  \"blocks_view\": " + std::string(st.showBlocks ? "true" : "false") + ",\n";
+  j += "  \"shading\": \"" + std::string(s.model == kPhong ? "phong" : "cook-torrance") + "\",\n";
+  j += "  \"background\": " + vec(s.background) + ",\n";
+  j += "  \"ambient\": " + vec(s.ambient) + ",\n";
+  j += "  \"max_depth\": " + std::to_string(s.maxDepth) + ",\n";
+  j += "  \"camera\": {\"position\": " + vec(s.camera.pos) + ", \"target\": " +
+       vec(s.camera.target) + ", \"up\": " + vec(s.camera.up) +
+       ", \"fov_y_degrees\": " + num(s.camera.fovY * 180.0 / M_PI) + ", \"width\": " +
+       std::to_string(w) + ", \"height\": " + std::to_string(h) + "},\n";
+  j += "  \"lights\": [";
+  for (int i = 0; i < s.numLights; ++i)
+    j += std::string(i ? ",\n    " : "\n    ") + "{\"position\": " + vec(s.lights[i].pos) +
+         ", \"color\": " + vec(s.lights[i].color) + "}";
+  j += "\n  ],\n  \"objects\": [";
+  for (int i = 0; i < s.numObjects; ++i) {
+    const Object& ob = s.objects[i];
+    j += std::string(i ? ",\n    " : "\n    ") + "{\"index\": " + std::to_string(i) +
+         ", \"background\": " + (i >= s.numForeground ? "true" : "false") +
+         ", \"ids_color\": " + hex(id_color(i)) + ", \"shape\": " + shape_json(ob.shape) +
+         ", \"material\": " + material_json(ob.mat, s.model) + "}";
+  }
+  j += "\n  ]\n}\n";
+  std::fputs(j.c_str(), stdout);
+  return 0;
+}
+
+// Contact sheet: 4 x 4 thumbnails of 240 x 180, each rendered at twice that
+// size and box-filtered, at the middle of each 4-s slot of the timeline.
+int cmd_sheet(int argc, char** argv) {
+  Options o(argc, argv, 2, {"--out", "--threads"});
+  std::string out = o.require("--out");
+  int threads = parse_threads(o);
+  constexpr int kCols = 4, kRows = 4, kTw = 240, kTh = 180, kGap = 4;
+  Image sheet(kCols * kTw + (kCols + 1) * kGap, kRows * kTh + (kRows + 1) * kGap);
+  for (auto& p : sheet.pixels) p = 0xff101010u;
+  for (int i = 0; i < kCols * kRows; ++i) {
+    double t = 2.0 + 4.0 * i;
+    Scene s;
+    build_timeline_scene(s, t);
+    Image big(2 * kTw, 2 * kTh);
+    render_frame(s, big, View::Color, threads, nullptr);
+    int ox = kGap + (i % kCols) * (kTw + kGap), oy = kGap + (i / kCols) * (kTh + kGap);
+    for (int y = 0; y < kTh; ++y)
+      for (int x = 0; x < kTw; ++x) {
+        uint32_t sum[3] = {0, 0, 0};
+        for (int k = 0; k < 4; ++k) {
+          uint32_t p = big.at(2 * x + (k & 1), 2 * y + (k >> 1));
+          sum[0] += (p >> 16) & 255;
+          sum[1] += (p >> 8) & 255;
+          sum[2] += p & 255;
+        }
+        sheet.at(ox + x, oy + y) =
+            0xff000000u | ((sum[0] + 2) / 4) << 16 | ((sum[1] + 2) / 4) << 8 | ((sum[2] + 2) / 4);
+      }
+  }
+  save(out, sheet);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 2) fail("no command given (try rt64k --help)");
+    std::string cmd = argv[1];
+    if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    if (cmd == "render") return cmd_render(argc, argv);
+    if (cmd == "scene") return cmd_scene(argc, argv);
+    if (cmd == "sheet") return cmd_sheet(argc, argv);
+    fail("unknown command '" + cmd + "' (try rt64k --help)");
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "rt64k: %s\n", e.message.c_str());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rt64k: %s\n", e.what());
+    return 2;
+  }
+}

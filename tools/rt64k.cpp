@@ -16,7 +16,8 @@ const char* kUsage =
     "rt64k - headless renderer of the rt64k intro\n"
     "\n"
     "usage:\n"
-    "  rt64k render --time T [--size WxH] [--view color|ids] [--threads N] --out FILE.png\n"
+    "  rt64k render --time T [--size WxH] [--view color|ids|blocks] [--mode full|copy|adaptive]\n"
+    "               [--block N] [--threads N] --out FILE.png\n"
     "      one frame of the 64-s timeline at time T seconds (any finite T; it loops)\n"
     "  rt64k scene --time T [--size WxH]\n"
     "      the scene state at time T as JSON on stdout\n"
@@ -24,7 +25,7 @@ const char* kUsage =
     "      a contact sheet: 16 frames across the 64 s (scene 1 on top, scene 2 below)\n"
     "  rt64k --help\n"
     "\n"
-    "defaults: --size 800x600, --view color, --threads = all cores\n"
+    "defaults: --size 800x600, --view color, --mode adaptive, --block 8, --threads = all cores\n"
     "exit codes: 0 ok, 2 bad arguments or output not writable\n";
 
 struct UsageError {
@@ -102,24 +103,39 @@ void save(const std::string& path, const Image& img) {
 }
 
 int cmd_render(int argc, char** argv) {
-  Options o(argc, argv, 2, {"--time", "--size", "--view", "--threads", "--out"});
+  Options o(argc, argv, 2,
+            {"--time", "--size", "--view", "--mode", "--block", "--threads", "--out"});
   double t = parse_time(o.require("--time"));
   std::string out = o.require("--out");
   int w = 800, h = 600;
   if (o.has("--size")) parse_size(o.get("--size"), w, h);
+  RenderOptions opt;
   std::string viewName = o.get("--view", "color");
-  View view;
   if (viewName == "color")
-    view = View::Color;
+    opt.view = View::Color;
   else if (viewName == "ids")
-    view = View::Ids;
+    opt.view = View::Ids;
+  else if (viewName == "blocks")
+    opt.view = View::Blocks;
   else
-    fail("--view: '" + viewName + "' is not one of color, ids");
-  int threads = parse_threads(o);
+    fail("--view: '" + viewName + "' is not one of color, ids, blocks");
+  std::string modeName = o.get("--mode", "adaptive");
+  if (modeName == "full")
+    opt.mode = Mode::Full;
+  else if (modeName == "copy")
+    opt.mode = Mode::Copy;
+  else if (modeName == "adaptive")
+    opt.mode = Mode::Adaptive;
+  else
+    fail("--mode: '" + modeName + "' is not one of full, copy, adaptive");
+  if (o.has("--block")) opt.block = int(parse_int(o.get("--block"), "--block", 2, 256));
+  opt.threads = parse_threads(o);
   Scene scene;
-  build_timeline_scene(scene, t);
+  TimelineState st = build_timeline_scene(scene, t);
+  // The timeline's renderer-visualisation segment shows the blocks by itself.
+  if (st.showBlocks && opt.view == View::Color) opt.view = View::Blocks;
   Image img(w, h);
-  render_frame(scene, img, view, threads, nullptr);
+  render_frame(scene, img, opt, nullptr);
   save(out, img);
   return 0;
 }
@@ -225,9 +241,13 @@ int cmd_sheet(int argc, char** argv) {
   for (int i = 0; i < kCols * kRows; ++i) {
     double t = 2.0 + 4.0 * i;
     Scene s;
-    build_timeline_scene(s, t);
+    TimelineState st = build_timeline_scene(s, t);
     Image big(2 * kTw, 2 * kTh);
-    render_frame(s, big, View::Color, threads, nullptr);
+    RenderOptions opt;
+    opt.mode = Mode::Full;
+    opt.view = st.showBlocks ? View::Blocks : View::Color;
+    opt.threads = threads;
+    render_frame(s, big, opt, nullptr);
     int ox = kGap + (i % kCols) * (kTw + kGap), oy = kGap + (i / kCols) * (kTh + kGap);
     for (int y = 0; y < kTh; ++y)
       for (int x = 0; x < kTw; ++x) {

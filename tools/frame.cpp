@@ -3,6 +3,8 @@
 #include "frame.h"
 
 #include <atomic>
+#include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -27,28 +29,99 @@ int default_threads() {
   return n ? int(n) : 1;
 }
 
+namespace {
+
+// A persistent pool: workers sleep between jobs, so a frame costs two wake-ups
+// (one per phase), not thread creation. The calling thread works too.
+class Pool {
+ public:
+  explicit Pool(int workers) {
+    for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { loop(); });
+  }
+  ~Pool() {
+    {
+      std::lock_guard<std::mutex> g(mutex_);
+      quit_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+  int workers() const { return int(threads_.size()); }
+
+  void run(int count, const std::function<void(int, RayStats&)>& fn, RayStats* total) {
+    {
+      std::lock_guard<std::mutex> g(mutex_);
+      fn_ = &fn;
+      count_ = count;
+      next_ = 0;
+      busy_ = int(threads_.size());
+      sum_ = RayStats{0, 0, 0};
+      ++generation_;
+    }
+    wake_.notify_all();
+    work();
+    std::unique_lock<std::mutex> g(mutex_);
+    done_.wait(g, [this] { return busy_ == 0; });
+    if (total) {
+      total->primary += sum_.primary;
+      total->secondary += sum_.secondary;
+      total->shadow += sum_.shadow;
+    }
+  }
+
+ private:
+  void work() {
+    RayStats local{0, 0, 0};
+    for (int i; (i = next_.fetch_add(1)) < count_;) (*fn_)(i, local);
+    std::lock_guard<std::mutex> g(mutex_);
+    sum_.primary += local.primary;
+    sum_.secondary += local.secondary;
+    sum_.shadow += local.shadow;
+  }
+  void loop() {
+    unsigned long seen = 0;
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> g(mutex_);
+        wake_.wait(g, [&] { return quit_ || generation_ != seen; });
+        if (quit_) return;
+        seen = generation_;
+      }
+      work();
+      std::lock_guard<std::mutex> g(mutex_);
+      if (--busy_ == 0) done_.notify_one();
+    }
+  }
+
+  std::vector<std::thread> threads_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  const std::function<void(int, RayStats&)>* fn_ = nullptr;
+  int count_ = 0, busy_ = 0;
+  std::atomic<int> next_{0};
+  unsigned long generation_ = 0;
+  bool quit_ = false;
+  RayStats sum_{0, 0, 0};
+};
+
+}  // namespace
+
 void parallel_for(int count, int threads, const std::function<void(int, RayStats&)>& fn,
                   RayStats* total) {
-  std::atomic<int> next{0};
-  std::mutex lock;
-  RayStats sum{0, 0, 0};
-  auto worker = [&] {
-    RayStats local{0, 0, 0};
-    for (int i; (i = next.fetch_add(1)) < count;) fn(i, local);
-    std::lock_guard<std::mutex> g(lock);
-    sum.primary += local.primary;
-    sum.secondary += local.secondary;
-    sum.shadow += local.shadow;
-  };
-  std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (total) {
-    total->primary += sum.primary;
-    total->secondary += sum.secondary;
-    total->shadow += sum.shadow;
+  // One pool per thread count, kept for the life of the process.
+  static std::mutex poolsLock;
+  static std::vector<std::unique_ptr<Pool>> pools;
+  Pool* pool = nullptr;
+  {
+    std::lock_guard<std::mutex> g(poolsLock);
+    for (auto& p : pools)
+      if (p->workers() == threads - 1) pool = p.get();
+    if (!pool) {
+      pools.push_back(std::make_unique<Pool>(threads - 1));
+      pool = pools.back().get();
+    }
   }
+  pool->run(count, fn, total);
 }
 
 void render_frame(const Scene& scene, Image& img, const RenderOptions& opt, RayStats* stats) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bench.h"
 #include "frame.h"
 
 namespace {
@@ -23,6 +24,12 @@ const char* kUsage =
     "      the scene state at time T as JSON on stdout\n"
     "  rt64k sheet --out FILE.png [--threads N]\n"
     "      a contact sheet: 16 frames across the 64 s (scene 1 on top, scene 2 below)\n"
+    "  rt64k bench [--step S] [--size WxH] [--threads N] [--modes LIST] [--csv FILE]\n"
+    "              [--plot FILE.png] [--scaling on|off]\n"
+    "      renders the timeline every S seconds (default 0.25: 256 frames) in each mode\n"
+    "      (default full,copy8,adaptive4,adaptive8,adaptive16) and prints a Markdown table\n"
+    "      of ms/frame, rays/pixel and error against the full trace; writes CSV (default\n"
+    "      bench.csv) and, with --plot, a PNG of ms/frame against PSNR (needs gnuplot)\n"
     "  rt64k --help\n"
     "\n"
     "defaults: --size 800x600, --view color, --mode adaptive, --block 8, --threads = all cores\n"
@@ -266,6 +273,38 @@ int cmd_sheet(int argc, char** argv) {
   return 0;
 }
 
+int cmd_bench(int argc, char** argv) {
+  Options o(argc, argv, 2,
+            {"--step", "--size", "--threads", "--modes", "--csv", "--plot", "--scaling"});
+  BenchOptions b;
+  if (o.has("--step")) {
+    b.step = parse_time(o.get("--step"));
+    if (!(b.step >= 0.01 && b.step <= kTimelineSeconds))
+      fail("--step: '" + o.get("--step") + "' is not in [0.01, 64] seconds");
+  }
+  if (o.has("--size")) parse_size(o.get("--size"), b.width, b.height);
+  b.threads = parse_threads(o);
+  std::string list = o.get("--modes", "full,copy8,adaptive4,adaptive8,adaptive16");
+  size_t start = 0;
+  while (start <= list.size()) {
+    size_t comma = list.find(',', start);
+    std::string item = list.substr(start, comma == std::string::npos ? std::string::npos
+                                                                     : comma - start);
+    BenchMode m;
+    if (!parse_bench_mode(item, m))
+      fail("--modes: '" + item + "' is not full, copyN or adaptiveN (N = block, 2..256)");
+    b.modes.push_back(m);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  b.csvPath = o.get("--csv", "bench.csv");
+  b.plotPath = o.get("--plot", "");
+  std::string scaling = o.get("--scaling", "on");
+  if (scaling != "on" && scaling != "off") fail("--scaling: '" + scaling + "' is not on or off");
+  b.scaling = scaling == "on";
+  return run_bench(b);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -279,6 +318,7 @@ int main(int argc, char** argv) {
     if (cmd == "render") return cmd_render(argc, argv);
     if (cmd == "scene") return cmd_scene(argc, argv);
     if (cmd == "sheet") return cmd_sheet(argc, argv);
+    if (cmd == "bench") return cmd_bench(argc, argv);
     fail("unknown command '" + cmd + "' (try rt64k --help)");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "rt64k: %s\n", e.message.c_str());

@@ -1,0 +1,220 @@
+// bench.cpp - `rt64k bench`: speed against error over the whole timeline.
+#include "bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Error of `img` against the every-pixel reference.
+struct FrameError {
+  double psnr;        // dB over RGB; +inf when identical
+  int maxError;       // largest absolute channel difference, 0..255
+  double offPercent;  // % of pixels with some channel off by more than 8/255
+};
+
+FrameError compare(const Image& ref, const Image& img) {
+  double sq = 0;
+  int maxErr = 0;
+  size_t off = 0;
+  for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    uint32_t a = ref.pixels[i], b = img.pixels[i];
+    int worst = 0;
+    for (int sh = 0; sh < 24; sh += 8) {
+      int d = std::abs(int(a >> sh & 255) - int(b >> sh & 255));
+      sq += double(d) * d;
+      worst = std::max(worst, d);
+    }
+    maxErr = std::max(maxErr, worst);
+    off += worst > 8;
+  }
+  double mse = sq / (3.0 * double(ref.pixels.size()));
+  double psnr = mse == 0 ? INFINITY : 10.0 * std::log10(255.0 * 255.0 / mse);
+  return FrameError{psnr, maxErr, 100.0 * double(off) / double(ref.pixels.size())};
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  size_t i = size_t(std::ceil(p * double(v.size()))) - 1;
+  return v[std::min(i, v.size() - 1)];
+}
+
+struct ModeResult {
+  std::vector<double> ms, ms1, psnr, off;
+  int maxError = 0;
+  RayStats rays{0, 0, 0};
+};
+
+std::string fmt(double v, int decimals) {
+  if (std::isinf(v)) return "inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+double now_ms() {
+  using namespace std::chrono;
+  return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+bool parse_bench_mode(const std::string& text, BenchMode& out) {
+  auto numbered = [&](const std::string& prefix, Mode mode) {
+    if (text.compare(0, prefix.size(), prefix) != 0) return false;
+    std::string digits = text.substr(prefix.size());
+    int block = kDefaultBlock;
+    if (!digits.empty()) {
+      if (digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos)
+        return false;
+      block = std::stoi(digits);
+      if (block < 2 || block > 256) return false;
+    }
+    out = BenchMode{prefix + std::to_string(block), mode, block};
+    return true;
+  };
+  if (text == "full") {
+    out = BenchMode{"full", Mode::Full, 0};
+    return true;
+  }
+  return numbered("adaptive", Mode::Adaptive) || numbered("copy", Mode::Copy);
+}
+
+int run_bench(const BenchOptions& o) {
+  const std::vector<BenchMode>& specs = o.modes;
+  int frames = int(std::floor(kTimelineSeconds / o.step + 1e-9));
+  std::vector<ModeResult> results(specs.size());
+  std::FILE* csv = std::fopen(o.csvPath.c_str(), "w");
+  if (!csv) {
+    std::fprintf(stderr, "rt64k: cannot write '%s'\n", o.csvPath.c_str());
+    return 2;
+  }
+  std::fprintf(csv, "time,mode,ms,ms_1thread,psnr_db,max_error,off_percent,primary,secondary,shadow\n");
+  Image ref(o.width, o.height), img(o.width, o.height);
+  double started = now_ms();
+  for (int f = 0; f < frames; ++f) {
+    double t = f * o.step;
+    Scene scene;
+    build_timeline_scene(scene, t);
+    RenderOptions full;
+    full.mode = Mode::Full;
+    full.threads = o.threads;
+    render_frame(scene, ref, full, nullptr);  // the reference, untimed
+    for (size_t m = 0; m < specs.size(); ++m) {
+      RenderOptions opt;
+      opt.mode = specs[m].mode;
+      opt.block = specs[m].block ? specs[m].block : kDefaultBlock;
+      opt.threads = o.threads;
+      RayStats rays;
+      double t0 = now_ms();
+      render_frame(scene, img, opt, &rays);
+      double ms = now_ms() - t0;
+      double ms1 = NAN;
+      if (o.scaling) {
+        opt.threads = 1;
+        t0 = now_ms();
+        render_frame(scene, img, opt, nullptr);
+        ms1 = now_ms() - t0;
+      }
+      FrameError e = compare(ref, img);
+      ModeResult& r = results[m];
+      r.ms.push_back(ms);
+      if (o.scaling) r.ms1.push_back(ms1);
+      r.psnr.push_back(e.psnr);
+      r.off.push_back(e.offPercent);
+      r.maxError = std::max(r.maxError, e.maxError);
+      r.rays.primary += rays.primary;
+      r.rays.secondary += rays.secondary;
+      r.rays.shadow += rays.shadow;
+      std::fprintf(csv, "%.3f,%s,%.4f,%.4f,%.3f,%d,%.4f,%llu,%llu,%llu\n", t,
+                   specs[m].name.c_str(), ms, ms1, std::isinf(e.psnr) ? 999.0 : e.psnr,
+                   e.maxError, e.offPercent, (unsigned long long)rays.primary,
+                   (unsigned long long)rays.secondary, (unsigned long long)rays.shadow);
+    }
+    if (o.progress && (f % 8 == 7 || f + 1 == frames))
+      std::fprintf(stderr, "bench: frame %d/%d (t = %.2f s), %.0f s elapsed\n", f + 1, frames, t,
+                   (now_ms() - started) / 1000);
+  }
+  std::fclose(csv);
+
+  double pixels = double(o.width) * o.height * frames;
+  double fullMedian = 0;
+  for (size_t m = 0; m < specs.size(); ++m)
+    if (specs[m].mode == Mode::Full) fullMedian = percentile(results[m].ms, 0.5);
+  std::printf("%d frames at %dx%d, every %.3f s, %d threads\n\n", frames, o.width, o.height,
+              o.step, o.threads);
+  std::printf("| mode | median ms | p95 ms | max ms | speed-up vs full | 1-thread median ms | "
+              "thread scaling | primary rays/px | secondary rays/px | shadow rays/px | "
+              "min PSNR dB | median PSNR dB | max abs error | pixels off > 8/255 (mean %%) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (size_t m = 0; m < specs.size(); ++m) {
+    const ModeResult& r = results[m];
+    double med = percentile(r.ms, 0.5);
+    double med1 = o.scaling ? percentile(r.ms1, 0.5) : NAN;
+    double offMean = 0;
+    for (double v : r.off) offMean += v / double(r.off.size());
+    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d | %s |\n",
+                specs[m].name.c_str(), fmt(med, 2).c_str(), fmt(percentile(r.ms, 0.95), 2).c_str(),
+                fmt(percentile(r.ms, 1.0), 2).c_str(),
+                fullMedian > 0 ? (fmt(fullMedian / med, 1) + "x").c_str() : "-",
+                o.scaling ? fmt(med1, 2).c_str() : "-",
+                o.scaling ? (fmt(med1 / med, 2) + "x").c_str() : "-",
+                fmt(double(r.rays.primary) / pixels, 3).c_str(),
+                fmt(double(r.rays.secondary) / pixels, 3).c_str(),
+                fmt(double(r.rays.shadow) / pixels, 3).c_str(),
+                fmt(*std::min_element(r.psnr.begin(), r.psnr.end()), 2).c_str(),
+                fmt(percentile(r.psnr, 0.5), 2).c_str(), r.maxError, fmt(offMean, 3).c_str());
+  }
+  std::printf("\nCSV: %s\n", o.csvPath.c_str());
+
+  if (!o.plotPath.empty()) {
+    // ms/frame against error: one point per mode (median ms, min and median
+    // PSNR), drawn by gnuplot from a data file next to the CSV.
+    std::string dat = o.csvPath + ".plot.dat";
+    std::FILE* d = std::fopen(dat.c_str(), "w");
+    if (!d) {
+      std::fprintf(stderr, "rt64k: cannot write '%s'\n", dat.c_str());
+      return 2;
+    }
+    for (size_t m = 0; m < specs.size(); ++m) {
+      double minP = *std::min_element(results[m].psnr.begin(), results[m].psnr.end());
+      double medP = percentile(results[m].psnr, 0.5);
+      std::fprintf(d, "\"%s\" %.4f %.3f %.3f %.4f\n", specs[m].name.c_str(),
+                   percentile(results[m].ms, 0.5), std::isinf(minP) ? 99.0 : minP,
+                   std::isinf(medP) ? 99.0 : medP, percentile(results[m].ms, 0.95));
+    }
+    std::fclose(d);
+    std::string script = o.csvPath + ".plot.gp";
+    std::FILE* g = std::fopen(script.c_str(), "w");
+    if (!g) {
+      std::fprintf(stderr, "rt64k: cannot write '%s'\n", script.c_str());
+      return 2;
+    }
+    std::fprintf(g,
+                 "set terminal pngcairo size 900,600 font 'sans,11'\n"
+                 "set output '%s'\n"
+                 "set title 'rt64k: ms per %dx%d frame against error vs every-pixel trace "
+                 "(%d frames, %d threads)'\n"
+                 "set xlabel 'median ms per frame (log scale)'\n"
+                 "set ylabel 'PSNR against full trace, dB (99 = identical)'\n"
+                 "set logscale x\nset grid\nset key bottom right\n"
+                 "set arrow from graph 0, first 40 to graph 1, first 40 nohead dt 2 lc rgb '#c00000'\n"
+                 "plot '%s' using 2:4:1 with labels offset 0,1 notitle, \\\n"
+                 "     '' using 2:4 with points pt 7 ps 1.5 title 'median PSNR', \\\n"
+                 "     '' using 2:3 with points pt 5 ps 1.2 title 'min PSNR'\n",
+                 o.plotPath.c_str(), o.width, o.height, frames, o.threads, dat.c_str());
+    std::fclose(g);
+    std::string cmd = "gnuplot '" + script + "'";
+    if (std::system(cmd.c_str()) != 0) {
+      std::fprintf(stderr, "rt64k: gnuplot failed (apt-get install gnuplot-nox); no plot drawn\n");
+      return 2;
+    }
+    std::printf("plot: %s\n", o.plotPath.c_str());
+  }
+  return 0;
+}

@@ -23,9 +23,15 @@ struct Light {
   Vec3 color;  // I_L, may exceed 1
 };
 
+// An object: shape, material, and a bounding sphere that rays test first
+// (a cone or cylinder costs several times a sphere test; most rays miss).
+// The bound is filled by scene_add from shape_bound(); an infinite plane has
+// boundRadius = kHuge, which every ray passes.
 struct Object {
   Shape shape;
   Material mat;
+  Vec3 boundCentre;
+  float boundRadius;
 };
 
 struct Camera {

@@ -187,3 +187,30 @@ bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   }
   return false;
 }
+
+void shape_bound(const Shape& s, Vec3& centre, float& radius) {
+  switch (s.kind) {
+  case kSphere:
+    centre = s.a;
+    radius = s.r0;
+    break;
+  case kPlane:
+    centre = v3(0.0f);
+    radius = kHuge;
+    return;
+  case kCylinder:
+  case kCone: {
+    // Centre on the axis at mid-height; the farthest points are the rims.
+    centre = s.a + s.b * (0.5f * s.h);
+    float half2 = 0.25f * s.h * s.h;
+    radius = rt_sqrt(half2 + rt_max(s.r0 * s.r0, s.r1 * s.r1));
+    break;
+  }
+  case kTriangle: {
+    centre = (s.a + s.b + s.c) * (1.0f / 3);
+    radius = rt_max(length(s.a - centre), rt_max(length(s.b - centre), length(s.c - centre)));
+    break;
+  }
+  }
+  radius += kBoundPad * (radius + max_abs(centre));
+}

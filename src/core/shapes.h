@@ -53,6 +53,11 @@ Shape make_triangle(Vec3 a, Vec3 b, Vec3 c);
 
 bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit);
 
+// A sphere enclosing the shape (radius kHuge for a plane), padded by
+// kBoundPad relative so that rounding never culls a real hit.
+void shape_bound(const Shape& s, Vec3& centre, float& radius);
+constexpr float kBoundPad = 1.0f / 1024;
+
 // Offset of a spawned ray's origin from the surface along the normal, scaled
 // by the magnitude of the hit point: float's relative rounding error is 2^-24
 // per operation; the quadratic solvers accumulate a few hundred ulps at worst

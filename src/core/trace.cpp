@@ -10,16 +10,33 @@ bool same_path(const PathRecord& a, const PathRecord& b) {
 
 namespace {
 
+// Can the ray hit the object's bounding sphere before tMax? Conservative:
+// false only when the ray misses the padded sphere or reaches it beyond tMax.
+// Spheres skip it: the bound is the shape.
+inline bool may_hit(const Object& o, const Ray& ray, float tMax) {
+  if (o.shape.kind == kSphere || o.boundRadius >= kHuge) return true;
+  Vec3 f = ray.org - o.boundCentre;
+  float b = dot(f, ray.dir);
+  float r2 = o.boundRadius * o.boundRadius;
+  float c = dot(f, f) - r2;
+  if (c > 0 && b > 0) return false;  // outside, moving away
+  Vec3 perp = f - ray.dir * b;
+  if (dot(perp, perp) > r2) return false;  // passes beside it
+  return c <= 0 || -b - o.boundRadius < tMax;
+}
+
 // Nearest hit: foreground first; background objects only when no foreground
 // object was hit (the background contract in scene.h). Returns object index.
 int nearest(const Scene& s, const Ray& ray, Hit& hit) {
   hit.t = kHuge;
   int found = -1;
   for (int i = 0; i < s.numForeground; ++i)
-    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+    if (may_hit(s.objects[i], ray, hit.t) && intersect(s.objects[i].shape, ray, 0.0f, hit))
+      found = i;
   if (found >= 0) return found;
   for (int i = s.numForeground; i < s.numObjects; ++i)
-    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+    if (may_hit(s.objects[i], ray, hit.t) && intersect(s.objects[i].shape, ray, 0.0f, hit))
+      found = i;
   return found;
 }
 
@@ -36,7 +53,8 @@ Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code) {
   for (int i = 0; i < s.numForeground; ++i) {
     Hit hit;
     hit.t = dist;
-    if (!intersect(s.objects[i].shape, ray, 0.0f, hit)) continue;
+    if (!may_hit(s.objects[i], ray, dist) || !intersect(s.objects[i].shape, ray, 0.0f, hit))
+      continue;
     const Material& m = s.objects[i].mat;
     if (m.transmit <= 0) {
       code = 3;
@@ -72,15 +90,15 @@ Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
 }  // namespace
 
-Vec3 trace(TraceContext& ctx, const Ray& ray, int depth) {
+Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
   const Scene& s = *ctx.scene;
   Hit hit;
   int id = nearest(s, ray, hit);
-  int slot = -1;
+  u32* node = nullptr;
   PathRecord* rec = ctx.record;
-  if (rec && depth <= kRecordDepth && rec->count < kMaxPathNodes) {
-    slot = rec->count++;
-    rec->node[slot] = (u16)(id + 1);
+  if (rec && depth <= kRecordDepth && weight >= kRecordWeight && rec->count < kMaxPathNodes) {
+    node = &rec->node[rec->count++];
+    *node = (u32)(id + 1);
   }
   if (id < 0) return s.background;
 
@@ -98,25 +116,29 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth) {
     int code = 3;
     Vec3 through = v3(0.0f);
     if (NdotL > 0) through = transmittance(ctx, lightOrg, L, dist, code);
-    if (slot >= 0) rec->node[slot] |= (u16)(code << (5 + 2 * li));
-    if (code == 3) continue;
-    Vec3 lit;
-    if (s.model == kPhong) {
-      float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
-      lit = m.color * (m.diffuse * NdotL) + v3(m.specular * rt_pow(VdotR, m.shininess));
-    } else {
-      lit = m.color * (m.diffuse * NdotL + m.specular * cook_torrance(m, N, V, L) * NdotL);
+    u32 bits = (u32)code;
+    if (code != 3) {
+      float spec;
+      if (s.model == kPhong) {
+        float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
+        spec = m.specular * rt_pow(VdotR, m.shininess);
+        color += (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color * through;
+      } else {
+        spec = m.specular * cook_torrance(m, N, V, L) * NdotL;
+        color += m.color * (m.diffuse * NdotL + spec) * light.color * through;
+      }
+      if (spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
     }
-    color += lit * light.color * through;
+    if (node) *node |= bits << (5 + 3 * li);
   }
 
   if (depth >= s.maxDepth) return color;
-  if (m.reflect > 0) {
+  if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
     Vec3 R = reflect(ray.dir, N);
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, R), R}, depth + 1) * m.reflect;
+    color += trace(ctx, Ray{spawn_origin(p, N, R), R}, depth + 1, weight * m.reflect) * m.reflect;
   }
-  if (m.transmit > 0) {
+  if (m.transmit > 0 && weight * m.transmit >= kMinRayWeight) {
     // Snell: eta = n1/n2; entering (front) goes air -> solid.
     float eta = hit.front ? 1.0f / m.ior : m.ior;
     float cosI = dot(N, V);  // >= 0: N faces the ray
@@ -128,7 +150,8 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth) {
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, T), T}, depth + 1) * m.transmit;
+    color += trace(ctx, Ray{spawn_origin(p, N, T), T}, depth + 1, weight * m.transmit) *
+             m.transmit;
   }
   return color;
 }

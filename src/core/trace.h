@@ -8,16 +8,25 @@ struct RayStats {
 };
 
 // What the adaptive renderer compares between a block's corners (thesis
-// 5.5.1): one node per traced ray up to depth kRecordDepth, in depth-first
+// 5.5.1): one node per traced ray that matters to the picture, in depth-first
 // order (primary, then its reflection subtree, then its refraction subtree).
+// A ray is recorded when its depth is at most kRecordDepth (the thesis: level
+// 2 behind a mirror, level 3 through glass) and its weight in the pixel (the
+// product of reflect/transmit factors along its path) is at least
+// kRecordWeight: an edge seen with weight w can put at most w of the
+// contrast into an interpolated block, so faint reflections need not split.
 // A node packs the object hit (index + 1; 0 = nothing) in bits 0..4 and, per
-// light i, a 2-bit shadow code in bits 5+2i: 0 lit, 1 behind one transparent
-// object, 2 behind several, 3 blocked (or facing away from the light).
+// light i, 3 bits from bit 5 + 3i: a 2-bit shadow code (0 lit, 1 behind one
+// transparent object, 2 behind several, 3 blocked or facing away) and a
+// highlight bit (the specular term exceeds kHighlightEdge), so blocks across
+// a highlight's rim are split too, which the thesis's test missed.
 constexpr int kRecordDepth = 3;
+constexpr float kRecordWeight = 0.25f;
+constexpr float kHighlightEdge = 1.0f / 32;
 constexpr int kMaxPathNodes = 7;  // a full binary tree of depth 3
 struct PathRecord {
   u8 count;
-  u16 node[kMaxPathNodes];
+  u32 node[kMaxPathNodes];
 };
 bool same_path(const PathRecord& a, const PathRecord& b);
 
@@ -27,9 +36,14 @@ struct TraceContext {
   PathRecord* record;  // may be null: nothing recorded
 };
 
-// Colour seen along `ray` (unit direction). depth is 1 for a primary ray.
+// Colour seen along `ray` (unit direction). depth is 1 for a primary ray;
+// weight is the ray's share of the pixel (1 for a primary ray). Secondary
+// rays whose weight falls below kMinRayWeight are not cast: for radiance up
+// to 1 their share of a pixel is under 2/255. That is a choice of the tracer
+// (full and adaptive renderers trace alike), not an adaptive-renderer error.
 // The result is finite and non-negative in every channel.
-Vec3 trace(TraceContext& ctx, const Ray& ray, int depth);
+Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f);
+constexpr float kMinRayWeight = 1.0f / 128;
 
 // Index of the object a ray sees first (foreground before background, as
 // trace() does), or -1 when it sees nothing.

@@ -43,58 +43,61 @@ Vec3 tilted_up(float tilt, float azimuth) {
 void build_scene1(Scene& s, float t) {
   scene_clear(s);
   s.model = kPhong;
-  s.background = v3(0.015f, 0.02f, 0.05f);
-  s.ambient = v3(0.05f, 0.05f, 0.08f);
+  s.background = v3(0.01f, 0.012f, 0.03f);
+  s.ambient = v3(0.04f, 0.04f, 0.07f);
   s.maxDepth = 5;
 
   // The mirror sphere swings along x through the gap, rising a little each
   // pass, and its top meets the upper cone's apex at x = 0 at kKnock. From
-  // then on its path opens from a line into an ellipse around the cones, so
-  // it clears the cone as that sinks.
-  constexpr float kKnock = 9.0f;  // seconds: the contact
-  constexpr float kSwing = 0.55f; // rad/s of the swing phase
+  // then on its path opens from a line into a widening ellipse around the
+  // cones, so it clears the cone as that sinks.
+  constexpr float kKnock = 9.0f;   // seconds: the contact
+  constexpr float kSwing = 0.55f;  // rad/s of the swing phase
   constexpr float kBallR = 0.55f;
-  constexpr float kApexY = 3.55f; // the upper cone's apex before it sinks
+  constexpr float kApexY = 3.55f;  // the upper cone's apex before it sinks
   float since = t - kKnock;
-  float phase = kSwing * since;   // x = 0 at the knock
-  float ballY = kApexY - kBallR - 0.5f * smooth01(1.0f - t / kKnock) -
-                0.25f * smooth01(since / 6.0f);
-  Vec3 ball = v3(1.9f * rt_sin(phase), ballY + 0.06f * rt_sin(2.1f * since),
-                 -1.7f * smooth01(since / 4.0f) * rt_cos(phase));
+  float phase = kSwing * since;  // x = 0 at the knock
+  float open = smooth01(since / 6.0f);
+  float ballY = kApexY - kBallR - 0.5f * smooth01(1.0f - t / kKnock) - 0.4f * open;
+  Vec3 ball = v3((1.9f + 0.5f * open) * rt_sin(phase), ballY + 0.06f * rt_sin(2.1f * since),
+                 -2.2f * open * rt_cos(phase));
 
   // Upper cone: apex down, hanging from its base. The knock sets it rocking
-  // about the base with a damped swing; then it sinks slowly by itself.
+  // about the base with a damped swing; then it sinks slowly by itself until
+  // its apex rests inside the lower cone's open top.
+  constexpr float kUpperH = 1.9f;
+  constexpr float kSink = 2.2f;  // final apex height kApexY - kSink = 1.35
   float rock = 0, sink = 0;
   if (since > 0) {
-    rock = 0.3f * rt_exp(-since / 5.0f) * rt_sin(1.9f * since);
-    sink = 1.0f * smooth01(since / 21.0f);
+    rock = 0.3f * rt_exp(-since / 4.0f) * rt_sin(1.9f * since);
+    sink = kSink * smooth01(since / 21.0f);
   }
-  constexpr float kUpperH = 1.9f;
   Vec3 down = tilted_up(kPi - rock, 0.0f);  // unit axis from base to apex
   Vec3 coneBase = v3(0, kApexY + kUpperH - sink, 0);
 
-  Material coneMat = phong(v3(0.22f, 0.35f, 0.95f), 0.75f, 0.6f, 40.0f, 0.18f);
-  Material upperMat = phong(v3(0.95f, 0.75f, 0.25f), 0.75f, 0.7f, 50.0f, 0.2f);
-  Material ballMat = phong(v3(1.0f, 0.2f, 0.15f), 0.25f, 0.9f, 90.0f, 0.75f);
-  Material glass = phong(v3(0.92f, 0.97f, 1.0f), 0.04f, 0.9f, 140.0f, 0.12f, 0.85f, 1.5f);
+  Material coneMat = phong(v3(0.15f, 0.3f, 1.0f), 0.7f, 0.8f, 60.0f, 0.2f);
+  Material upperMat = phong(v3(1.0f, 0.62f, 0.12f), 0.7f, 0.8f, 60.0f, 0.2f);
+  Material ballMat = phong(v3(1.0f, 0.12f, 0.1f), 0.3f, 1.0f, 120.0f, 0.7f);
+  Material glass = phong(v3(0.9f, 0.96f, 1.0f), 0.03f, 1.0f, 200.0f, 0.1f, 0.88f, 1.5f);
 
   // Lower cone: a frustum open at its top, standing on the floor.
   scene_add(s, make_cone(v3(0, 0, 0), v3(0, 1, 0), 1.5f, 0.32f, 1.75f, kCapBase), coneMat);
   scene_add(s, make_cone(coneBase, down, 1.25f, 0.0f, kUpperH, kCapBase), upperMat);
   scene_add(s, make_sphere(ball, kBallR), ballMat);
+  // Glass spheres: the upper one passes behind the cones at the knock.
   float orbit = 0.38f * t;
   scene_add(s, make_sphere(v3(3.4f * rt_cos(orbit), 1.0f, 3.4f * rt_sin(orbit)), 0.75f), glass);
-  scene_add(s, make_sphere(v3(3.4f * rt_cos(-orbit + 2.2f), 3.7f, 3.4f * rt_sin(-orbit + 2.2f)),
-                           0.65f),
-            glass);
+  float upper = 0.5f * kPi + 0.38f * kKnock - orbit;
+  scene_add(s, make_sphere(v3(3.4f * rt_cos(upper), 4.1f, 3.4f * rt_sin(upper)), 0.65f), glass);
   scene_add_background(s, make_plane(v3(0, 1, 0), 0.0f),
-                       phong(v3(0.35f, 0.38f, 0.5f), 0.55f, 0.3f, 30.0f, 0.45f));
+                       phong(v3(0.3f, 0.32f, 0.45f), 0.5f, 0.4f, 40.0f, 0.55f));
 
-  scene_add_light(s, v3(-6.0f, 9.0f, -5.0f), v3(0.95f, 0.85f, 0.75f));
-  scene_add_light(s, v3(5.0f, 4.0f, -3.0f), v3(0.25f, 0.35f, 0.6f));
+  // A warm key light high at the front left, a cool rim light behind right.
+  scene_add_light(s, v3(-6.0f, 9.0f, -6.0f), v3(1.0f, 0.86f, 0.7f));
+  scene_add_light(s, v3(5.0f, 6.0f, 6.0f), v3(0.35f, 0.45f, 0.95f));
 
   float sway = 0.35f * rt_sin(kTwoPi * t / kSceneSeconds);
-  s.camera = Camera{v3(9.5f * rt_sin(sway), 3.2f, -9.5f * rt_cos(sway)), v3(0, 2.0f, 0),
+  s.camera = Camera{v3(8.6f * rt_sin(sway), 3.0f, -8.6f * rt_cos(sway)), v3(0, 2.55f, 0),
                     v3(0, 1, 0), 50.0f * kPi / 180.0f};
   apply_fade(s, t);
 }
@@ -118,9 +121,9 @@ void build_scene2(Scene& s, float t) {
   // common centre, close enough that they always overlap.
   for (int i = 0; i < 3; ++i) {
     float ph = t * 0.55f + (float)i * (kTwoPi / 3.0f);
-    Vec3 c = v3(1.1f * rt_sin(ph) + 0.35f * rt_sin(1.7f * t + (float)i),
-                1.25f + 0.35f * rt_sin(1.3f * ph + 0.8f * (float)i),
-                0.8f * rt_cos(ph * 1.15f));
+    Vec3 c = v3(0.75f * rt_sin(ph) + 0.25f * rt_sin(1.7f * t + (float)i),
+                1.2f + 0.3f * rt_sin(1.3f * ph + 0.8f * (float)i),
+                0.6f * rt_cos(ph * 1.15f));
     scene_add(s, make_sphere(c, 0.95f - 0.08f * (float)i), gold);
   }
   // Two glass cylinders bounding the motion left and right, each tilted and

@@ -46,6 +46,7 @@ double percentile(std::vector<double> v, double p) {
 
 struct ModeResult {
   std::vector<double> ms, ms1, psnr, off;
+  double kindPixels[4] = {0, 0, 0, 0};  // BlockKind counts over all frames
   int maxError = 0;
   RayStats rays{0, 0, 0};
 };
@@ -96,6 +97,7 @@ int run_bench(const BenchOptions& o) {
   }
   std::fprintf(csv, "time,mode,ms,ms_1thread,psnr_db,max_error,off_percent,primary,secondary,shadow\n");
   Image ref(o.width, o.height), img(o.width, o.height);
+  std::vector<uint8_t> kinds(size_t(o.width) * size_t(o.height));
   double started = now_ms();
   for (int f = 0; f < frames; ++f) {
     double t = f * o.step;
@@ -111,9 +113,12 @@ int run_bench(const BenchOptions& o) {
       opt.block = specs[m].block ? specs[m].block : kDefaultBlock;
       opt.threads = o.threads;
       RayStats rays;
+      std::fill(kinds.begin(), kinds.end(), uint8_t(kTraced));
+      opt.kinds = kinds.data();
       double t0 = now_ms();
       render_frame(scene, img, opt, &rays);
       double ms = now_ms() - t0;
+      opt.kinds = nullptr;
       double ms1 = NAN;
       if (o.scaling) {
         opt.threads = 1;
@@ -123,6 +128,7 @@ int run_bench(const BenchOptions& o) {
       }
       FrameError e = compare(ref, img);
       ModeResult& r = results[m];
+      for (uint8_t k : kinds) r.kindPixels[k & 3] += 1;
       r.ms.push_back(ms);
       if (o.scaling) r.ms1.push_back(ms1);
       r.psnr.push_back(e.psnr);
@@ -150,15 +156,19 @@ int run_bench(const BenchOptions& o) {
               o.step, o.threads);
   std::printf("| mode | median ms | p95 ms | max ms | speed-up vs full | 1-thread median ms | "
               "thread scaling | primary rays/px | secondary rays/px | shadow rays/px | "
-              "min PSNR dB | median PSNR dB | max abs error | pixels off > 8/255 (mean %%) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "min PSNR dB | median PSNR dB | max abs error | pixels off > 8/255 (mean %%) | "
+              "pixels copied / interpolated / traced %% |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (size_t m = 0; m < specs.size(); ++m) {
     const ModeResult& r = results[m];
     double med = percentile(r.ms, 0.5);
     double med1 = o.scaling ? percentile(r.ms1, 0.5) : NAN;
     double offMean = 0;
     for (double v : r.off) offMean += v / double(r.off.size());
-    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d | %s |\n",
+    std::string kindsText = fmt(100 * r.kindPixels[kCopied] / pixels, 1) + " / " +
+                            fmt(100 * r.kindPixels[kInterpolated] / pixels, 1) + " / " +
+                            fmt(100 * r.kindPixels[kTraced] / pixels, 1);
+    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d | %s | %s |\n",
                 specs[m].name.c_str(), fmt(med, 2).c_str(), fmt(percentile(r.ms, 0.95), 2).c_str(),
                 fmt(percentile(r.ms, 1.0), 2).c_str(),
                 fullMedian > 0 ? (fmt(fullMedian / med, 1) + "x").c_str() : "-",
@@ -168,7 +178,8 @@ int run_bench(const BenchOptions& o) {
                 fmt(double(r.rays.secondary) / pixels, 3).c_str(),
                 fmt(double(r.rays.shadow) / pixels, 3).c_str(),
                 fmt(*std::min_element(r.psnr.begin(), r.psnr.end()), 2).c_str(),
-                fmt(percentile(r.psnr, 0.5), 2).c_str(), r.maxError, fmt(offMean, 3).c_str());
+                fmt(percentile(r.psnr, 0.5), 2).c_str(), r.maxError, fmt(offMean, 3).c_str(),
+                kindsText.c_str());
   }
   std::printf("\nCSV: %s\n", o.csvPath.c_str());
 

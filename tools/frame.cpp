@@ -154,6 +154,7 @@ void render_frame(const Scene& scene, Image& img, const RenderOptions& opt, RayS
   f.mode = opt.mode == Mode::Copy ? kModeCopyOnly : kModeAdaptive;
   f.showBlocks = opt.view == View::Blocks;
   f.corners = corners.data();
+  f.kinds = opt.kinds;
   adaptive_begin(f);
   for (int phase = 0; phase < 2; ++phase)
     parallel_for(adaptive_items(f, phase), opt.threads,

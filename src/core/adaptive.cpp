@@ -31,7 +31,14 @@ struct Block {
   int x0, y0, x1, y1, xEnd, yEnd;
 };
 
+void mark(const AdaptiveFrame& f, const Block& b, BlockKind kind) {
+  if (!f.kinds) return;
+  for (int y = b.y0; y < b.yEnd; ++y)
+    for (int x = b.x0; x < b.xEnd; ++x) f.kinds[y * f.width + x] = kind;
+}
+
 void fill(const AdaptiveFrame& f, const Block& b, u32 packed) {
+  mark(f, b, kCopied);
   if (f.showBlocks) packed = tint_copied(packed);
   for (int y = b.y0; y < b.yEnd; ++y) {
     u32* row = f.fb + y * f.stride;
@@ -43,6 +50,7 @@ void fill(const AdaptiveFrame& f, const Block& b, u32 packed) {
 // each channel's value at the block's left and right edge is stepped down the
 // rows, and along each row by a constant increment. Rounds to nearest.
 void interpolate(const AdaptiveFrame& f, const Block& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+  mark(f, b, kInterpolated);
   int spanX = b.x1 - b.x0, spanY = b.y1 - b.y0;
   i32 invX = spanX ? 65536 / spanX : 0, invY = spanY ? 65536 / spanY : 0;
   for (int y = b.y0; y < b.yEnd; ++y) {
@@ -72,6 +80,7 @@ void interpolate(const AdaptiveFrame& f, const Block& b, u32 c00, u32 c10, u32 c
 }
 
 void trace_all(const AdaptiveFrame& f, const Block& b, const Sample& c00, RayStats* stats) {
+  mark(f, b, kTraced);
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x)
       f.fb[y * f.stride + x] =
@@ -80,14 +89,12 @@ void trace_all(const AdaptiveFrame& f, const Block& b, const Sample& c00, RaySta
 
 void process(const AdaptiveFrame& f, const Block& b, const Sample& c00, const Sample& c10,
              const Sample& c01, const Sample& c11, RayStats* stats) {
-  bool samePath = same_path(c00.path, c10.path) && same_path(c00.path, c01.path) &&
-                  same_path(c00.path, c11.path);
-  if (samePath && c00.packed == c10.packed && c00.packed == c01.packed &&
-      c00.packed == c11.packed) {
+  BlockKind kind = adaptive_decide(c00, c10, c01, c11, f.mode);
+  if (kind == kCopied) {
     fill(f, b, c00.packed);
     return;
   }
-  if (samePath && f.mode == kModeAdaptive) {
+  if (kind == kInterpolated) {
     interpolate(f, b, c00.packed, c10.packed, c01.packed, c11.packed);
     return;
   }
@@ -120,6 +127,18 @@ void process(const AdaptiveFrame& f, const Block& b, const Sample& c00, const Sa
 }
 
 }  // namespace
+
+// Colour copy needs equal colours AND equal records: two different objects
+// of one colour are not one surface. Interpolation needs equal records.
+BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10,
+                          const CornerSample& c01, const CornerSample& c11, AdaptiveMode mode) {
+  bool samePath = same_path(c00.path, c10.path) && same_path(c00.path, c01.path) &&
+                  same_path(c00.path, c11.path);
+  if (!samePath) return kSplit;
+  if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
+    return kCopied;
+  return mode == kModeAdaptive ? kInterpolated : kSplit;
+}
 
 u32 tint_copied(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff800000u; }
 u32 tint_interpolated(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff000080u; }

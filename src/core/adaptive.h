@@ -39,10 +39,17 @@ struct AdaptiveFrame {
   AdaptiveMode mode;
   bool showBlocks;        // tint copied blocks red, interpolated ones blue
   CornerSample* corners;  // caller-owned, adaptive_corner_count() entries
+  u8* kinds;  // optional (null: none): per pixel, the BlockKind that filled it
   // Set by adaptive_begin().
   CameraRays cam;
   int gridW, gridH;  // corners per row / column
 };
+
+enum BlockKind : u8 { kTraced, kCopied, kInterpolated, kSplit };
+
+// The decision for a block with these four corner samples.
+BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10,
+                          const CornerSample& c01, const CornerSample& c11, AdaptiveMode mode);
 
 // Number of CornerSample entries a frame of this size and block size needs.
 int adaptive_corner_count(int width, int height, int baseBlock);

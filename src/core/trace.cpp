@@ -12,9 +12,10 @@ namespace {
 
 // Can the ray hit the object's bounding sphere before tMax? Conservative:
 // false only when the ray misses the padded sphere or reaches it beyond tMax.
-// Spheres skip it: the bound is the shape.
+// For a sphere the bound is the shape, padded: this is the cheap half of
+// its test, inline, before the call.
 inline bool may_hit(const Object& o, const Ray& ray, float tMax) {
-  if (o.shape.kind == kSphere || o.boundRadius >= kHuge) return true;
+  if (o.boundRadius >= kHuge) return true;
   Vec3 f = ray.org - o.boundCentre;
   float b = dot(f, ray.dir);
   float r2 = o.boundRadius * o.boundRadius;

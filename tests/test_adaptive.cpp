@@ -1,0 +1,293 @@
+// Tests of the adaptive subsampling renderer (issue 3): its decisions on
+// real traced corners at each kind of edge, exactness where it traces, and
+// the same picture for any thread count.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "adaptive.h"
+#include "frame.h"
+#include "scenes.h"
+
+namespace {
+
+// Diffuse only: no highlight rims to split on besides the edge under test.
+Material matte(Vec3 c) { return Material{c, 0.8f, 0.0f, 20, 0, 0, 1, 0.3f, 0.04f}; }
+
+// A camera at the origin looking down +z with a 90 degree vertical field of
+// view over a square image: pixel column x maps to direction x in [-1, 1].
+Camera front_camera() { return Camera{v3(0, 0, 0), v3(0, 0, 1), v3(0, 1, 0), kPi / 2}; }
+
+void base_scene(Scene& s) {
+  scene_clear(s);
+  s.model = kPhong;
+  s.background = v3(0.1f, 0.2f, 0.3f);
+  s.ambient = v3(0.1f);
+  s.camera = front_camera();
+}
+
+CornerSample sample(const Scene& s, Ray ray) {
+  CornerSample c;
+  c.path.count = 0;
+  TraceContext ctx{&s, {0, 0, 0}, &c.path};
+  c.packed = pack_color(trace(ctx, ray, 1));
+  return c;
+}
+
+Ray ray_to(Vec3 target) { return Ray{v3(0, 0, 0), normalize(target)}; }
+
+// Four corner rays around the point (x, y) at distance 10 straight ahead,
+// spread by +-d.
+BlockKind decide_around(const Scene& s, float x, float y, float d) {
+  CornerSample c00 = sample(s, ray_to(v3(x - d, y - d, 10)));
+  CornerSample c10 = sample(s, ray_to(v3(x + d, y - d, 10)));
+  CornerSample c01 = sample(s, ray_to(v3(x - d, y + d, 10)));
+  CornerSample c11 = sample(s, ray_to(v3(x + d, y + d, 10)));
+  return adaptive_decide(c00, c10, c01, c11, kModeAdaptive);
+}
+
+TEST(AdaptiveDecide, FlatBackgroundIsCopied) {
+  Scene s;
+  base_scene(s);
+  EXPECT_EQ(decide_around(s, 0, 0, 1), kCopied);
+}
+
+TEST(AdaptiveDecide, SilhouetteIsSplit) {
+  Scene s;
+  base_scene(s);
+  scene_add(s, make_sphere(v3(0, 0, 10), 2), matte(v3(1, 0, 0)));
+  scene_add_light(s, v3(0, 10, 0), v3(1));
+  EXPECT_EQ(decide_around(s, 2.0f, 0, 0.3f), kSplit);  // straddles the rim at x = 2
+  EXPECT_NE(decide_around(s, 0.0f, 0, 0.3f), kSplit);  // well inside
+}
+
+// Scans the view's row y (directions (x, y, 10)) from x0 to x1 and returns
+// the first x where the corner record changes, and the two records.
+struct Edge {
+  float x = 0;
+  PathRecord before{}, after{};
+  bool found = false;
+};
+Edge find_edge(const Scene& s, float x0, float x1, float y) {
+  Edge e;
+  CornerSample prev = sample(s, ray_to(v3(x0, y, 10)));
+  for (float x = x0 + 0.005f; x < x1; x += 0.005f) {
+    CornerSample c = sample(s, ray_to(v3(x, y, 10)));
+    if (!same_path(c.path, prev.path)) {
+      e.x = x - 0.0025f;
+      e.before = prev.path;
+      e.after = c.path;
+      e.found = true;
+      return e;
+    }
+    prev = c;
+  }
+  return e;
+}
+
+TEST(AdaptiveDecide, ShadowEdgeIsSplit) {
+  // A wall at z = 10; an opaque sphere at (0, 0, 5) lit from (-4, 0, 0)
+  // throws its shadow onto the wall around x = 4.
+  Scene s;
+  base_scene(s);
+  scene_add(s, make_sphere(v3(0, 0, 5), 1), matte(v3(1, 1, 0)));
+  scene_add_background(s, make_plane(v3(0, 0, -1), -10), matte(v3(0.8f)));
+  scene_add_light(s, v3(-4, 0, 0), v3(1));
+  Edge e = find_edge(s, 2.5f, 9.0f, 0);
+  ASSERT_TRUE(e.found);
+  // Same object on both sides (the wall); only the shadow code differs.
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);
+  EXPECT_NE(e.before.node[0] >> 5 & 3u, e.after.node[0] >> 5 & 3u);
+  EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
+  EXPECT_NE(decide_around(s, e.x + 1.0f, 0, 0.02f), kSplit);
+}
+
+TEST(AdaptiveDecide, ReflectionEdgeIsSplit) {
+  // A mirror wall facing the camera; behind the camera a red sphere is seen
+  // in the mirror. Corners straddling the reflected rim must split.
+  Scene s;
+  base_scene(s);
+  Material mirror = matte(v3(0.2f));
+  mirror.reflect = 0.8f;
+  scene_add(s, make_sphere(v3(0, 0, -10), 4), matte(v3(1, 0, 0)));
+  scene_add_background(s, make_plane(v3(0, 0, -1), -10), mirror);
+  // Far behind the mirror (which casts no shadows, as a background object):
+  // the sphere's whole visible side is lit, so no terminator is in view.
+  scene_add_light(s, v3(0, 0, 1000), v3(1));
+  Edge e = find_edge(s, 0.0f, 5.0f, 0);
+  ASSERT_TRUE(e.found);
+  ASSERT_GE(e.before.count, 2);
+  ASSERT_GE(e.after.count, 2);
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);  // both see the mirror
+  EXPECT_NE(e.before.node[1] & 31u, e.after.node[1] & 31u);  // reflections differ
+  EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
+  EXPECT_NE(decide_around(s, 0.0f, 0, 0.02f), kSplit);
+}
+
+TEST(AdaptiveDecide, RefractionEdgeIsSplit) {
+  // A glass sphere in front of a green triangle whose left edge is x = 0.5:
+  // through the glass the edge appears bent, and a block across it splits.
+  Scene s;
+  base_scene(s);
+  Material glass = matte(v3(1));
+  glass.transmit = 0.9f;
+  glass.ior = 1.5f;
+  glass.diffuse = 0.0f;
+  scene_add(s, make_sphere(v3(0, 0, 8), 3), glass);
+  scene_add(s, make_triangle(v3(0.5f, -50, 20), v3(0.5f, 50, 20), v3(60, 0, 20)),
+            matte(v3(0, 1, 0)));
+  scene_add_light(s, v3(0, 0, 0), v3(1));
+  Edge e = find_edge(s, -2.5f, 2.5f, 0);
+  ASSERT_TRUE(e.found);
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);  // both see the glass first
+  EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
+}
+
+// A whole frame: every pixel the adaptive renderer traced equals the full
+// trace bit for bit; copied and interpolated pixels are the rest.
+struct Frames {
+  Image full, adaptive;
+  std::vector<uint8_t> kinds;
+};
+
+Frames render_both(double t, int w, int h, int block) {
+  Scene s;
+  build_timeline_scene(s, t);
+  Frames f{Image(w, h), Image(w, h), std::vector<uint8_t>(size_t(w) * size_t(h), 255)};
+  RenderOptions full;
+  full.mode = Mode::Full;
+  full.threads = 2;
+  render_frame(s, f.full, full, nullptr);
+  RenderOptions ad;
+  ad.mode = Mode::Adaptive;
+  ad.block = block;
+  ad.threads = 2;
+  ad.kinds = f.kinds.data();
+  render_frame(s, f.adaptive, ad, nullptr);
+  return f;
+}
+
+TEST(AdaptiveFrame, TracedPixelsEqualFullTrace) {
+  for (double t : {3.0, 9.0, 20.0, 37.0, 45.0, 58.0}) {
+    Frames f = render_both(t, 400, 300, 8);
+    size_t traced = 0, mismatched = 0, unset = 0;
+    for (size_t i = 0; i < f.kinds.size(); ++i) {
+      if (f.kinds[i] == 255) ++unset;
+      if (f.kinds[i] != kTraced) continue;
+      ++traced;
+      mismatched += f.full.pixels[i] != f.adaptive.pixels[i];
+    }
+    EXPECT_EQ(unset, 0u) << "t=" << t << ": pixels no block wrote";
+    EXPECT_GT(traced, 0u) << "t=" << t;
+    EXPECT_EQ(mismatched, 0u) << "t=" << t << " of " << traced << " traced pixels";
+  }
+}
+
+TEST(AdaptiveFrame, EmptySceneIsAllCopiedFromCornersOnly) {
+  Scene s;
+  base_scene(s);
+  constexpr int kW = 64, kH = 48, kB = 8;
+  Image img(kW, kH);
+  std::vector<uint8_t> kinds(kW * kH, 255);
+  RenderOptions opt;
+  opt.block = kB;
+  opt.threads = 1;
+  opt.kinds = kinds.data();
+  RayStats stats;
+  render_frame(s, img, opt, &stats);
+  for (uint8_t k : kinds) ASSERT_EQ(k, kCopied);
+  EXPECT_EQ(stats.primary, uint64_t(adaptive_corner_count(kW, kH, kB)));  // corners traced once
+  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1)));
+  for (uint32_t p : img.pixels) ASSERT_EQ(p, pack_color(s.background));
+}
+
+TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
+  // A huge dark triangle covering the right half of the view, its edge the
+  // vertical line through x = 0.37 (between pixel columns): every block
+  // crossing it is split down to traced pixels on both sides of the edge.
+  Scene s;
+  base_scene(s);
+  s.background = v3(0.9f);
+  Material flat = matte(v3(0.1f, 0.1f, 0.6f));
+  flat.diffuse = 0;  // ambient only: one flat colour, so every block is exact
+  scene_add(s, make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10),
+                             v3(1000, 0, 10)),
+            flat);
+  constexpr int kN = 128;
+  Image img(kN, kN), full(kN, kN);
+  std::vector<uint8_t> kinds(kN * kN, 255);
+  RenderOptions opt;
+  opt.threads = 2;
+  opt.kinds = kinds.data();
+  render_frame(s, img, opt, nullptr);
+  RenderOptions fo;
+  fo.mode = Mode::Full;
+  render_frame(s, full, fo, nullptr);
+  // The edge lies between the columns whose full-trace colours differ.
+  int edge = -1;
+  for (int x = 0; x + 1 < kN; ++x)
+    if (full.at(x, kN / 2) != full.at(x + 1, kN / 2)) edge = x;
+  ASSERT_GT(edge, 0);
+  // Pixels on either side of the edge are traced, or copied from a block
+  // lying wholly on their side; never interpolated across it.
+  size_t traced = 0;
+  for (int y = 0; y < kN; ++y) {
+    for (int x : {edge, edge + 1}) {
+      uint8_t k = kinds[size_t(y * kN + x)];
+      EXPECT_NE(k, kInterpolated) << "x=" << x << " y=" << y;
+      traced += k == kTraced;
+    }
+  }
+  EXPECT_GE(traced, size_t(kN));  // the edge runs inside blocks: most rows trace there
+  EXPECT_EQ(img.pixels, full.pixels);  // flat colours on both sides: exact
+}
+
+TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
+  for (double t : {5.0, 44.0, 51.0}) {  // 51 s is inside the blocks segment
+    Scene s;
+    TimelineState st = build_timeline_scene(s, t);
+    std::vector<Image> imgs;
+    for (int threads : {1, 2, 7}) {
+      Image img(400, 300);
+      RenderOptions opt;
+      opt.threads = threads;
+      opt.view = st.showBlocks ? View::Blocks : View::Color;
+      render_frame(s, img, opt, nullptr);
+      imgs.push_back(img);
+    }
+    EXPECT_EQ(imgs[0].pixels, imgs[1].pixels) << "t=" << t;
+    EXPECT_EQ(imgs[0].pixels, imgs[2].pixels) << "t=" << t;
+  }
+}
+
+TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
+  Scene s;
+  build_timeline_scene(s, 12.0);
+  for (int w : {1, 2, 7, 33}) {
+    for (int h : {1, 3, 17}) {
+      Image img(w, h), full(w, h);
+      std::vector<uint8_t> kinds(size_t(w * h), 255);
+      RenderOptions opt;
+      opt.kinds = kinds.data();
+      render_frame(s, img, opt, nullptr);
+      RenderOptions fo;
+      fo.mode = Mode::Full;
+      render_frame(s, full, fo, nullptr);
+      for (size_t i = 0; i < kinds.size(); ++i) {
+        ASSERT_NE(kinds[i], 255) << w << "x" << h << " pixel " << i;
+        if (kinds[i] == kTraced) {
+          ASSERT_EQ(img.pixels[i], full.pixels[i]) << w << "x" << h;
+        }
+      }
+    }
+  }
+}
+
+TEST(AdaptiveFrame, BlocksViewTintsCopiedRedAndInterpolatedBlue) {
+  EXPECT_EQ(tint_copied(0xff000000u), 0xff800000u);
+  EXPECT_EQ(tint_interpolated(0xff000000u), 0xff000080u);
+  EXPECT_EQ(tint_copied(0xffffffffu), 0xffff7f7fu);
+  EXPECT_EQ(tint_interpolated(0xffffffffu), 0xff7f7fffu);
+}
+
+}  // namespace

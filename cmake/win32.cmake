@@ -1,0 +1,57 @@
+# intro.exe (issue 4), included by the top-level CMakeLists.txt.
+#
+# One configure-and-build gives both programs:
+#   cmake -S . -B build && cmake --build build && ctest --test-dir build
+# builds the native tool and tests as before and, through an ExternalProject,
+# a MinGW-w64 sub-build of src/win32 (its own CMake project, toolchain file
+# cmake/mingw-w64-x86_64.cmake) whose product is build/win32/intro.exe.
+# Then: the `size-check` target, and the tests in tests/wine (size, imports,
+# the command line parser natively, and end-to-end runs under Wine + Xvfb).
+
+set(RT64K_WIN32_BINARY_DIR ${CMAKE_BINARY_DIR}/win32)
+set(RT64K_INTRO_EXE ${RT64K_WIN32_BINARY_DIR}/intro.exe)
+
+find_program(RT64K_MINGW_CXX NAMES x86_64-w64-mingw32-g++ x86_64-w64-mingw32-g++-win32
+             x86_64-w64-mingw32-g++-posix)
+find_program(RT64K_MINGW_OBJDUMP x86_64-w64-mingw32-objdump)
+find_program(RT64K_UPX upx)
+
+if(RT64K_MINGW_CXX AND RT64K_MINGW_OBJDUMP)
+  set(RT64K_HAVE_MINGW ON)
+else()
+  set(RT64K_HAVE_MINGW OFF)
+  message(WARNING
+    "\n"
+    "  ************************************************************************\n"
+    "  rt64k: MinGW-w64 NOT FOUND (x86_64-w64-mingw32-g++ / -objdump).\n"
+    "  intro.exe will NOT be built; its size and Wine tests will report SKIPPED.\n"
+    "  Install it with:  sudo apt-get install g++-mingw-w64-x86-64\n"
+    "  ************************************************************************\n")
+endif()
+
+if(RT64K_HAVE_MINGW)
+  include(ExternalProject)
+  ExternalProject_Add(intro_exe
+    SOURCE_DIR ${CMAKE_SOURCE_DIR}/src/win32
+    BINARY_DIR ${RT64K_WIN32_BINARY_DIR}
+    CMAKE_ARGS -DCMAKE_TOOLCHAIN_FILE=${CMAKE_SOURCE_DIR}/cmake/mingw-w64-x86_64.cmake
+               -DCMAKE_BUILD_TYPE=Release
+    # The sub-build's own dependency scan decides what to recompile.
+    BUILD_ALWAYS TRUE
+    INSTALL_COMMAND ""
+    BUILD_BYPRODUCTS ${RT64K_INTRO_EXE})
+
+  set(RT64K_SIZE_CHECK_COMMAND
+      ${CMAKE_COMMAND} -DEXE=${RT64K_INTRO_EXE} -DOBJDUMP=${RT64K_MINGW_OBJDUMP}
+      -DUPX=${RT64K_UPX} -DPACKED=${RT64K_WIN32_BINARY_DIR}/intro-upx.exe
+      -P ${CMAKE_SOURCE_DIR}/cmake/size-check.cmake)
+  add_custom_target(size-check
+    COMMAND ${RT64K_SIZE_CHECK_COMMAND}
+    DEPENDS intro_exe
+    COMMENT "size-check: intro.exe against the 16,384-byte budget and the 65,536-byte limit"
+    VERBATIM)
+endif()
+
+if(BUILD_TESTING)
+  add_subdirectory(${CMAKE_SOURCE_DIR}/tests/wine ${CMAKE_BINARY_DIR}/tests/wine)
+endif()

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench.h"
+#include "overlay.h"
 #include "frame.h"
 
 namespace {
@@ -18,8 +19,9 @@ const char* kUsage =
     "\n"
     "usage:\n"
     "  rt64k render --time T [--size WxH] [--view color|ids|blocks] [--mode full|copy|adaptive]\n"
-    "               [--block N] [--threads N] --out FILE.png\n"
-    "      one frame of the 64-s timeline at time T seconds (any finite T; it loops)\n"
+    "               [--block N] [--threads N] [--overlay on|off] --out FILE.png\n"
+    "      one frame of the 64-s timeline at time T seconds (any finite T; it loops),\n"
+    "      with the intro's captions (--overlay on, the default; not in the ids view)\n"
     "  rt64k scene --time T [--size WxH]\n"
     "      the scene state at time T as JSON on stdout\n"
     "  rt64k sheet --out FILE.png [--threads N]\n"
@@ -111,7 +113,7 @@ void save(const std::string& path, const Image& img) {
 
 int cmd_render(int argc, char** argv) {
   Options o(argc, argv, 2,
-            {"--time", "--size", "--view", "--mode", "--block", "--threads", "--out"});
+            {"--time", "--size", "--view", "--mode", "--block", "--threads", "--overlay", "--out"});
   double t = parse_time(o.require("--time"));
   std::string out = o.require("--out");
   int w = 800, h = 600;
@@ -137,12 +139,16 @@ int cmd_render(int argc, char** argv) {
     fail("--mode: '" + modeName + "' is not one of full, copy, adaptive");
   if (o.has("--block")) opt.block = int(parse_int(o.get("--block"), "--block", 2, 256));
   opt.threads = parse_threads(o);
+  std::string overlay = o.get("--overlay", "on");
+  if (overlay != "on" && overlay != "off") fail("--overlay: '" + overlay + "' is not on or off");
   Scene scene;
   TimelineState st = build_timeline_scene(scene, t);
   // The timeline's renderer-visualisation segment shows the blocks by itself.
   if (st.showBlocks && opt.view == View::Color) opt.view = View::Blocks;
   Image img(w, h);
   render_frame(scene, img, opt, nullptr);
+  if (overlay == "on" && opt.view != View::Ids)
+    overlay_draw(img.pixels.data(), w, h, w, timeline_wrap(t));
   save(out, img);
   return 0;
 }
@@ -255,6 +261,7 @@ int cmd_sheet(int argc, char** argv) {
     opt.view = st.showBlocks ? View::Blocks : View::Color;
     opt.threads = threads;
     render_frame(s, big, opt, nullptr);
+    overlay_draw(big.pixels.data(), big.width, big.height, big.width, timeline_wrap(t));
     int ox = kGap + (i % kCols) * (kTw + kGap), oy = kGap + (i / kCols) * (kTh + kGap);
     for (int y = 0; y < kTh; ++y)
       for (int x = 0; x < kTw; ++x) {

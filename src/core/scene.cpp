@@ -3,10 +3,20 @@
 
 namespace {
 
-Object make_object(const Shape& shape, const Material& m) {
-  Object o{shape, m, {0, 0, 0}, kHuge};
+void add_object(Scene& s, const Shape& shape, const Material& m) {
+  int i = s.numObjects++;
+  Object& o = s.objects[i];
+  o = Object{shape, m, {0, 0, 0}, kHuge};
   shape_bound(shape, o.boundCentre, o.boundRadius);
-  return o;
+  if (o.boundRadius >= kHuge) {
+    s.unboundedMask |= 1u << i;
+    return;
+  }
+  s.boundX[i] = o.boundCentre.x;
+  s.boundY[i] = o.boundCentre.y;
+  s.boundZ[i] = o.boundCentre.z;
+  s.boundR[i] = o.boundRadius;
+  s.boundR2[i] = o.boundRadius * o.boundRadius;
 }
 
 }  // namespace
@@ -14,17 +24,22 @@ Object make_object(const Shape& shape, const Material& m) {
 void scene_clear(Scene& s) {
   s.numObjects = s.numForeground = s.numLights = 0;
   s.maxDepth = 4;
+  s.unboundedMask = 0;
+  for (int i = 0; i < kMaxObjects; ++i) {
+    s.boundX[i] = s.boundY[i] = s.boundZ[i] = s.boundR[i] = 0;
+    s.boundR2[i] = -1;
+  }
 }
 
 void scene_add(Scene& s, const Shape& shape, const Material& m) {
   if (s.numObjects >= kMaxObjects || s.numForeground != s.numObjects) return;
-  s.objects[s.numObjects++] = make_object(shape, m);
+  add_object(s, shape, m);
   s.numForeground = s.numObjects;
 }
 
 void scene_add_background(Scene& s, const Shape& shape, const Material& m) {
   if (s.numObjects >= kMaxObjects) return;
-  s.objects[s.numObjects++] = make_object(shape, m);
+  add_object(s, shape, m);
 }
 
 void scene_add_light(Scene& s, Vec3 pos, Vec3 color) {

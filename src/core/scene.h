@@ -39,7 +39,7 @@ struct Camera {
   float fovY;  // vertical field of view, radians
 };
 
-constexpr int kMaxObjects = 16;
+constexpr int kMaxObjects = 8;  // scene 1 has 6, scene 2 has 7; a multiple of 4 (SSE)
 constexpr int kMaxLights = 4;
 
 // Objects [0, numForeground) are foreground; [numForeground, numObjects) are
@@ -57,6 +57,16 @@ struct Scene {
   Vec3 ambient;     // ambient light level, multiplied by the albedo once per hit
   int maxDepth;     // primary ray is depth 1; no secondary rays beyond maxDepth
   Camera camera;
+  // The objects' bounding spheres again, structure-of-arrays, so that a ray
+  // tests four bounds at once (trace.cpp). Filled by scene_add*; an unused
+  // slot has boundR2 = -1, which no ray passes; an unbounded object (plane)
+  // is in unboundedMask instead.
+  alignas(16) float boundX[kMaxObjects];
+  alignas(16) float boundY[kMaxObjects];
+  alignas(16) float boundZ[kMaxObjects];
+  alignas(16) float boundR[kMaxObjects];
+  alignas(16) float boundR2[kMaxObjects];
+  u32 unboundedMask;
 };
 
 // Appending helpers used by scene builders. Foreground objects must all be

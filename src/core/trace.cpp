@@ -10,20 +10,38 @@ bool same_path(const PathRecord& a, const PathRecord& b) {
 
 namespace {
 
-// Can the ray hit the object's bounding sphere before tMax? Conservative:
-// false only when the ray misses the padded sphere or reaches it beyond tMax.
-// For a sphere the bound is the shape, padded: this is the cheap half of
-// its test, inline, before the call.
-inline bool may_hit(const Object& o, const Ray& ray, float tMax) {
-  if (o.boundRadius >= kHuge) return true;
-  Vec3 f = ray.org - o.boundCentre;
-  float b = dot(f, ray.dir);
-  float r2 = o.boundRadius * o.boundRadius;
-  float c = dot(f, f) - r2;
-  if (c > 0 && b > 0) return false;  // outside, moving away
-  Vec3 perp = f - ray.dir * b;
-  if (dot(perp, perp) > r2) return false;  // passes beside it
-  return c <= 0 || -b - o.boundRadius < tMax;
+typedef float f4 __attribute__((vector_size(16)));
+
+// Bit i set: the ray may hit object i (of those in `range`) before tMax,
+// judged by its bounding sphere (conservative: a clear bit is a sure miss).
+// Four bounds per step with SSE. Per bound: f = org - centre, b = f.d,
+// c = |f|^2 - r^2; a miss when the ray starts outside and points away
+// (c > 0, b > 0), passes beside (b^2 < c), or reaches it beyond tMax.
+u32 bound_mask(const Scene& s, const Ray& ray, float tMax, u32 range) {
+  u32 mask = s.unboundedMask & range;
+  f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
+  f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};
+  f4 oz = {ray.org.z, ray.org.z, ray.org.z, ray.org.z};
+  f4 dx = {ray.dir.x, ray.dir.x, ray.dir.x, ray.dir.x};
+  f4 dy = {ray.dir.y, ray.dir.y, ray.dir.y, ray.dir.y};
+  f4 dz = {ray.dir.z, ray.dir.z, ray.dir.z, ray.dir.z};
+  f4 tm = {tMax, tMax, tMax, tMax};
+  f4 zero = {0, 0, 0, 0};
+  for (int g = 0; g < kMaxObjects && (range >> g); g += 4) {
+    f4 fx = ox - *(const f4*)(s.boundX + g), fy = oy - *(const f4*)(s.boundY + g);
+    f4 fz = oz - *(const f4*)(s.boundZ + g);
+    f4 b = fx * dx + fy * dy + fz * dz;
+    f4 c = fx * fx + fy * fy + fz * fz - *(const f4*)(s.boundR2 + g);
+    auto miss = ((c > zero) & (b > zero)) | (b * b < c) |
+                ((c > zero) & (-b - *(const f4*)(s.boundR + g) >= tm));
+    u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
+    mask |= (m << g) & range;
+  }
+  return mask;
+}
+
+inline u32 range_mask(int begin, int end) {
+  return (end >= 32 ? ~0u : (1u << end) - 1) & ~((1u << begin) - 1);
 }
 
 // Nearest hit: foreground first; background objects only when no foreground
@@ -31,13 +49,17 @@ inline bool may_hit(const Object& o, const Ray& ray, float tMax) {
 int nearest(const Scene& s, const Ray& ray, Hit& hit) {
   hit.t = kHuge;
   int found = -1;
-  for (int i = 0; i < s.numForeground; ++i)
-    if (may_hit(s.objects[i], ray, hit.t) && intersect(s.objects[i].shape, ray, 0.0f, hit))
-      found = i;
+  u32 all = bound_mask(s, ray, kHuge, range_mask(0, s.numObjects));
+  u32 foreground = range_mask(0, s.numForeground);
+  for (u32 m = all & foreground; m; m &= m - 1) {
+    int i = __builtin_ctz(m);
+    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+  }
   if (found >= 0) return found;
-  for (int i = s.numForeground; i < s.numObjects; ++i)
-    if (may_hit(s.objects[i], ray, hit.t) && intersect(s.objects[i].shape, ray, 0.0f, hit))
-      found = i;
+  for (u32 m = all & ~foreground; m; m &= m - 1) {
+    int i = __builtin_ctz(m);
+    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+  }
   return found;
 }
 
@@ -51,11 +73,12 @@ Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code) {
   Ray ray{p, L};
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (int i = 0; i < s.numForeground; ++i) {
+  for (u32 mask = bound_mask(s, ray, dist, range_mask(0, s.numForeground)); mask;
+       mask &= mask - 1) {
+    int i = __builtin_ctz(mask);
     Hit hit;
     hit.t = dist;
-    if (!may_hit(s.objects[i], ray, dist) || !intersect(s.objects[i].shape, ray, 0.0f, hit))
-      continue;
+    if (!intersect(s.objects[i].shape, ray, 0.0f, hit)) continue;
     const Material& m = s.objects[i].mat;
     if (m.transmit <= 0) {
       code = 3;

@@ -137,11 +137,14 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
     float dist = length(toLight);
     Vec3 L = toLight * (1.0f / rt_max(dist, 1e-20f));
     float NdotL = dot(N, L);
-    int code = 3;
+    // A surface facing away from the light records code 0 like a lit one:
+    // the diffuse term fades to 0 at the terminator, so there is no edge
+    // there to split on (a cast shadow, code 3, is one).
+    int code = 0;
     Vec3 through = v3(0.0f);
     if (NdotL > 0) through = transmittance(ctx, lightOrg, L, dist, code);
     u32 bits = (u32)code;
-    if (code != 3) {
+    if (NdotL > 0 && code != 3) {
       float spec;
       if (s.model == kPhong) {
         float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);

@@ -17,7 +17,8 @@ struct RayStats {
 // contrast into an interpolated block, so faint reflections need not split.
 // A node packs the object hit (index + 1; 0 = nothing) in bits 0..4 and, per
 // light i, 3 bits from bit 5 + 3i: a 2-bit shadow code (0 lit, 1 behind one
-// transparent object, 2 behind several, 3 blocked or facing away) and a
+// transparent object, 2 behind several, 3 blocked; a surface facing away
+// from the light counts as lit, its diffuse term being 0 there) and a
 // highlight bit (the specular term exceeds kHighlightEdge), so blocks across
 // a highlight's rim are split too, which the thesis's test missed.
 constexpr int kRecordDepth = 3;

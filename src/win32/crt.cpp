@@ -10,10 +10,12 @@
 // already gave; here it is the instruction again, in asm so that it cannot
 // become a call to itself.
 //
-// Not provided, because GCC for x86_64-w64-mingw32 never references them in
-// this program (the link would fail if it did): _fltused (an MSVC-only
-// marker) and ___chkstk_ms (stack probes, emitted only for frames of 4 kB
-// or more; no function here or in the core has one).
+// ___chkstk_ms: GCC calls it in the prologue of any function whose stack
+// frame is 4 kB or larger (e.g. a sample buffer on the stack). Windows grows
+// a thread's stack one guard page at a time, so such a frame must be touched
+// page by page from the top down before use.
+//
+// Not provided: _fltused (an MSVC-only marker; GCC never references it).
 typedef unsigned long long size_t;
 
 // Contract as in C: regions of n bytes, no overlap for memcpy. `rep stosb`
@@ -43,3 +45,30 @@ extern "C" double sqrt(double x) {
   __asm__("sqrtsd %1, %0" : "=x"(r) : "x"(x));
   return r;
 }
+
+// Contract (as libgcc's): RAX = bytes the caller is about to subtract from
+// RSP; every 4-kB page from the caller's RSP down to RSP - RAX is touched in
+// order; all registers and flags the caller relies on are preserved (RCX and
+// RAX are saved); the caller adjusts RSP itself. 24 = the return address
+// and the two saved registers.
+__asm__(".section .text$___chkstk_ms,\"x\"\n"
+        ".globl ___chkstk_ms\n"
+        "___chkstk_ms:\n"
+        "  pushq %rcx\n"
+        "  pushq %rax\n"
+        "  cmpq $0x1000, %rax\n"
+        "  leaq 24(%rsp), %rcx\n"
+        "  jb 2f\n"
+        "1:\n"
+        "  subq $0x1000, %rcx\n"
+        "  orq $0, (%rcx)\n"
+        "  subq $0x1000, %rax\n"
+        "  cmpq $0x1000, %rax\n"
+        "  ja 1b\n"
+        "2:\n"
+        "  subq %rax, %rcx\n"
+        "  orq $0, (%rcx)\n"
+        "  popq %rax\n"
+        "  popq %rcx\n"
+        "  ret\n"
+        ".text\n");

@@ -1,0 +1,70 @@
+// audio.cpp - waveOut playback of the music loop (see audio.h). Win32 API
+// only: no C runtime call, every struct field set explicitly.
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+// mmsystem.h needs windows.h first.
+#include <mmsystem.h>
+
+#include "audio.h"
+#include "synth.h"
+
+namespace {
+
+// One struct: MinGW's -fdata-sections puts each zero-initialised global in
+// .data of its own (file bytes, 16-byte aligned), so fewer is smaller.
+struct Player {
+  HWAVEOUT device;
+  WAVEHDR header;
+  DWORD lastFrame; // last position within the loop, in frames
+  int passes;      // completed passes through the loop
+} g;
+
+} // namespace
+
+bool audio_start(const short* samples) {
+  WAVEFORMATEX format;
+  format.wFormatTag = WAVE_FORMAT_PCM;
+  format.nChannels = 2;
+  format.nSamplesPerSec = kAudioRate;
+  format.nAvgBytesPerSec = kAudioRate * 4;
+  format.nBlockAlign = 4;
+  format.wBitsPerSample = 16;
+  format.cbSize = 0;
+  if (waveOutOpen(&g.device, WAVE_MAPPER, &format, 0, 0, CALLBACK_NULL) != MMSYSERR_NOERROR)
+    return false;
+  g.header.lpData = (LPSTR)samples;
+  g.header.dwBufferLength = (DWORD)kAudioFrames * 4;
+  g.header.dwFlags = 0; // waveOutPrepareHeader wants 0; the loop flags come after
+  g.header.dwLoops = 0;
+  g.lastFrame = 0;
+  g.passes = 0;
+  if (waveOutPrepareHeader(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) {
+    g.header.dwFlags |= WHDR_BEGINLOOP | WHDR_ENDLOOP;
+    g.header.dwLoops = 0xFFFFFFFF;
+    if (waveOutWrite(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) return true;
+    waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
+  }
+  waveOutClose(g.device);
+  return false;
+}
+
+double audio_seconds() {
+  MMTIME t;
+  t.wType = TIME_SAMPLES;
+  t.u.sample = 0;
+  waveOutGetPosition(g.device, &t, sizeof t);
+  // A driver without TIME_SAMPLES answers in another format (usually bytes).
+  DWORD frame = (t.wType == TIME_BYTES ? t.u.cb / 4 : t.u.sample) % (DWORD)kAudioFrames;
+  if (frame + kAudioFrames / 2 < g.lastFrame)
+    ++g.passes; // wrapped to the loop's start
+  else if (frame < g.lastFrame)
+    frame = g.lastFrame; // jitter: never step back
+  g.lastFrame = frame;
+  return g.passes * (double)kAudioSeconds + (double)frame * (1.0 / kAudioRate);
+}
+
+void audio_stop() {
+  waveOutReset(g.device);
+  waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
+  waveOutClose(g.device);
+}

@@ -2,8 +2,8 @@
 //
 // Structure: 13 channels, each one fixed instrument (a ChannelDef of bytes).
 // A channel plays 16-step patterns (one per bar) chosen by its row in
-// kOrder. Notes go to a shared pool of voices; a voice is two oscillators
-// (saw / square / sine with FM), noise, a state-variable filter with an
+// kSong. Notes go to a shared pool of voices; a voice is two oscillators
+// (saws, or a sine with FM), noise, a state-variable filter with an
 // envelope, a pitch envelope and an attack-decay-sustain-release amplifier.
 // Voices mix into a dry stereo pair and a send to one ping-pong delay.
 //
@@ -53,8 +53,8 @@ enum Kind : u8 {
 // 150 ~ 700 Hz, 192 ~ 1.75 kHz, 224 ~ 3.5 kHz; capped at kMaxCut (~5.8 kHz).
 struct ChannelDef {
   u8 kind, base; // base: MIDI note of pattern note field 1 (chord channels: added to the chord)
-  u8 patterns;   // index in kPatterns of this channel's pattern 'a'
-  u8 wave;       // 0 sine, phase-modulated by osc 2 (FM); 1 two saws; 2 two squares
+  u8 patterns;   // number of patterns before this channel's pattern 'a' in kEvents
+  u8 wave;       // 0 sine, phase-modulated by osc 2 (FM); 1 two saws
   u8 osc2;       // wave 0: modulator ratio osc2/16; else osc 2 detuned by ratio 1 + osc2/2048
   u8 fm;         // wave 0: modulation index fm/32 turns, scaled by the amplitude envelope
   u8 noise;      // share of white noise in the source, /256
@@ -104,8 +104,13 @@ const ChannelDef kChannelDefs[kChannels] = {
   {kPlain,       57, 45,  0,   0,   0, 255, 205, 255, 255, 112, 220, -7, 176, 15 << 2 | 1,  0,  0,  88,   0,  80}, // RISER noise sweep
 };
 
-// Pattern byte: bits 0-4 note field (1-31; 0 = no note), bits 5-7 length code
-// (kLength) or, on drum channels, velocity code.
+// A pattern is a run of events, one per note, in step order; the last one
+// has kLast in its step. Note byte: bits 0-4 note field (1-31), bits 5-7
+// length code (kLength) or, on drum channels, velocity code.
+struct Event {
+  u8 step, note;
+};
+constexpr u8 kLast = 0x80;
 constexpr u8 n(int field, int code) { return (u8)(code << 5 | field); }
 enum Len { l1, l2, l3, l4, l6, l8, l16, l32 };
 const u8 kLength[8] = {1, 2, 3, 4, 6, 8, 16, 32};
@@ -117,67 +122,67 @@ enum Note {
 constexpr u8 ld(int midi, int len) { return n(midi - 68, len); }  // LEAD, base 69
 constexpr u8 bl(int midi, int len) { return n(midi - 56, len); }  // BELL and METAL, base 57
 
-const u8 kPatterns[][16] = {
+const Event kEvents[] = {
   // PAD: a, whole chord for two bars; b, one bar an octave up
-  {n(1, l32), 0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
-  {n(13, l16), 0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
+  {kLast | 0, n(1, l32)},
+  {kLast | 0, n(13, l16)},
   // STAB: a, offbeats and a push; b, offbeats and an extra
-  {0,0,n(1,l1),0,0,0,n(1,l1),0,0,0,n(1,l1),0,0,n(1,l2),0,0},
-  {0,0,n(1,l1),0,0,0,n(1,l1),0,0,0,n(1,l1),0,n(1,l1),0,n(1,l1),0},
+  {2, n(1,l1)}, {6, n(1,l1)}, {10, n(1,l1)}, {kLast | 13, n(1,l2)},
+  {2, n(1,l1)}, {6, n(1,l1)}, {10, n(1,l1)}, {12, n(1,l1)}, {kLast | 14, n(1,l1)},
   // SUB: a, the root for two bars
-  {n(1, l32), 0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
+  {kLast | 0, n(1, l32)},
   // BASS: a, rolling offbeat 16ths (root, octave 13, fifth 8); b, with the seventh (11); c, held
-  {0,0,1,1,0,0,13,1,0,0,1,1,0,0,13,8},
-  {0,0,1,1,0,0,13,1,0,0,13,1,0,11,13,8},
-  {n(1, l16), 0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
+  {2, 1}, {3, 1}, {6, 13}, {7, 1}, {10, 1}, {11, 1}, {14, 13}, {kLast | 15, 8},
+  {2, 1}, {3, 1}, {6, 13}, {7, 1}, {10, 13}, {11, 1}, {13, 11}, {14, 13}, {kLast | 15, 8},
+  {kLast | 0, n(1, l16)},
   // LEAD: a-d over D A Bm G; e-h over D F#m G A; i the last bar (A7)
-  {ld(A5,l3),0,0,ld(Fs5,l3),0,0,ld(D6,l2),0,ld(Cs6,l2),0,ld(A5,l2),0,ld(Fs5,l4),0,0,0},
-  {ld(E5,l3),0,0,ld(A5,l3),0,0,ld(Cs6,l2),0,ld(B5,l2),0,ld(A5,l2),0,ld(E5,l4),0,0,0},
-  {ld(Fs5,l3),0,0,ld(B5,l3),0,0,ld(D6,l2),0,ld(Cs6,l2),0,ld(B5,l2),0,ld(Fs5,l2),0,ld(A5,l2),0},
-  {ld(G5,l3),0,0,ld(B5,l3),0,0,ld(D6,l4),0,0,0,ld(B5,l2),0,ld(A5,l4),0,0,0},
-  {ld(D6,l2),0,ld(E6,l2),0,ld(Fs6,l4),0,0,0,ld(E6,l2),0,ld(D6,l2),0,ld(A5,l4),0,0,0},
-  {ld(Cs6,l3),0,0,ld(A5,l3),0,0,ld(Fs5,l2),0,ld(A5,l2),0,ld(Cs6,l2),0,ld(E6,l4),0,0,0},
-  {ld(D6,l3),0,0,ld(B5,l3),0,0,ld(G5,l2),0,ld(B5,l2),0,ld(D6,l2),0,ld(G6,l4),0,0,0},
-  {ld(E6,l6),0,0,0,0,0,ld(Cs6,l2),0,ld(A5,l4),0,0,0,ld(E5,l2),0,ld(G5,l2),0},
-  {ld(Cs6,l2),0,ld(E6,l2),0,ld(A6,l8),0,0,0,0,0,0,0,ld(G6,l4),0,0,0},
+  {0, ld(A5,l3)}, {3, ld(Fs5,l3)}, {6, ld(D6,l2)}, {8, ld(Cs6,l2)}, {10, ld(A5,l2)}, {kLast | 12, ld(Fs5,l4)},
+  {0, ld(E5,l3)}, {3, ld(A5,l3)}, {6, ld(Cs6,l2)}, {8, ld(B5,l2)}, {10, ld(A5,l2)}, {kLast | 12, ld(E5,l4)},
+  {0, ld(Fs5,l3)}, {3, ld(B5,l3)}, {6, ld(D6,l2)}, {8, ld(Cs6,l2)}, {10, ld(B5,l2)}, {12, ld(Fs5,l2)}, {kLast | 14, ld(A5,l2)},
+  {0, ld(G5,l3)}, {3, ld(B5,l3)}, {6, ld(D6,l4)}, {10, ld(B5,l2)}, {kLast | 12, ld(A5,l4)},
+  {0, ld(D6,l2)}, {2, ld(E6,l2)}, {4, ld(Fs6,l4)}, {8, ld(E6,l2)}, {10, ld(D6,l2)}, {kLast | 12, ld(A5,l4)},
+  {0, ld(Cs6,l3)}, {3, ld(A5,l3)}, {6, ld(Fs5,l2)}, {8, ld(A5,l2)}, {10, ld(Cs6,l2)}, {kLast | 12, ld(E6,l4)},
+  {0, ld(D6,l3)}, {3, ld(B5,l3)}, {6, ld(G5,l2)}, {8, ld(B5,l2)}, {10, ld(D6,l2)}, {kLast | 12, ld(G6,l4)},
+  {0, ld(E6,l6)}, {6, ld(Cs6,l2)}, {8, ld(A5,l4)}, {12, ld(E5,l2)}, {kLast | 14, ld(G5,l2)},
+  {0, ld(Cs6,l2)}, {2, ld(E6,l2)}, {4, ld(A6,l8)}, {kLast | 12, ld(G6,l4)},
   // BELL: a-k, bars 5-15 of scene 1 (Gm A7 A7 Dm Dm Bb Bb Eb Eb A7 A7)
-  {bl(D5,l4),0,0,0,0,0,bl(Bb4,l4),0,0,0,0,0,0,0,0,0},
-  {bl(Cs5,l8),0,0,0,0,0,0,0,0,0,0,0,bl(E5,l4),0,0,0},
-  {bl(A4,l16),0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
-  {bl(F5,l6),0,0,0,0,0,bl(E5,l2),0,bl(D5,l8),0,0,0,0,0,0,0},
-  {0,0,0,0,bl(A4,l4),0,0,0,bl(C5,l8),0,0,0,0,0,0,0},
-  {bl(D5,l8),0,0,0,0,0,0,0,bl(F5,l8),0,0,0,0,0,0,0},
-  {bl(A5,l8),0,0,0,0,0,0,0,bl(G5,l4),0,0,0,bl(F5,l4),0,0,0},
-  {bl(G5,l8),0,0,0,0,0,0,0,bl(Bb5,l4),0,0,0,bl(G5,l4),0,0,0},
-  {bl(F5,l8),0,0,0,0,0,0,0,bl(Eb5,l8),0,0,0,0,0,0,0},
-  {bl(E5,l8),0,0,0,0,0,0,0,bl(Cs5,l8),0,0,0,0,0,0,0},
-  {bl(E5,l4),0,0,0,bl(G5,l4),0,0,0,bl(Cs6,l8),0,0,0,0,0,0,0},
+  {0, bl(D5,l4)}, {kLast | 6, bl(Bb4,l4)},
+  {0, bl(Cs5,l8)}, {kLast | 12, bl(E5,l4)},
+  {kLast | 0, bl(A4,l16)},
+  {0, bl(F5,l6)}, {6, bl(E5,l2)}, {kLast | 8, bl(D5,l8)},
+  {4, bl(A4,l4)}, {kLast | 8, bl(C5,l8)},
+  {0, bl(D5,l8)}, {kLast | 8, bl(F5,l8)},
+  {0, bl(A5,l8)}, {8, bl(G5,l4)}, {kLast | 12, bl(F5,l4)},
+  {0, bl(G5,l8)}, {8, bl(Bb5,l4)}, {kLast | 12, bl(G5,l4)},
+  {0, bl(F5,l8)}, {kLast | 8, bl(Eb5,l8)},
+  {0, bl(E5,l8)}, {kLast | 8, bl(Cs5,l8)},
+  {0, bl(E5,l4)}, {4, bl(G5,l4)}, {kLast | 8, bl(Cs6,l8)},
   // METAL: a, the knock at 9 s (bar 4, step 8)
-  {0,0,0,0,0,0,0,0,bl(A5,l2),0,0,0,0,0,0,0},
+  {kLast | 8, bl(A5,l2)},
   // KICK (field 5 the kick, field 1 the knock's lower boom): a knock; b, c heartbeat;
   // d build; e four to the floor; f the last bar
-  {0,0,0,0,0,0,0,0,n(1,7),0,0,0,0,0,0,0},
-  {n(5,4),0,n(5,2),0,0,0,0,0,0,0,0,0,0,0,0,0},
-  {n(5,4),0,n(5,2),0,0,0,0,0,n(5,4),0,n(5,2),0,0,0,0,0},
-  {n(5,4),0,0,0,n(5,4),0,0,0,n(5,5),0,0,0,n(5,6),0,n(5,5),0},
-  {n(5,7),0,0,0,n(5,7),0,0,0,n(5,7),0,0,0,n(5,7),0,0,0},
-  {n(5,7),0,0,0,n(5,7),0,0,0,n(5,7),0,0,0,0,0,0,0},
+  {kLast | 8, n(1,7)},
+  {0, n(5,4)}, {kLast | 2, n(5,2)},
+  {0, n(5,4)}, {2, n(5,2)}, {8, n(5,4)}, {kLast | 10, n(5,2)},
+  {0, n(5,4)}, {4, n(5,4)}, {8, n(5,5)}, {12, n(5,6)}, {kLast | 14, n(5,5)},
+  {0, n(5,7)}, {4, n(5,7)}, {8, n(5,7)}, {kLast | 12, n(5,7)},
+  {0, n(5,7)}, {4, n(5,7)}, {kLast | 8, n(5,7)},
   // SNARE: a soft half-time; b roll; c backbeat; d backbeat and fill; e last bar
-  {0,0,0,0,0,0,0,0,n(1,2),0,0,0,0,0,0,0},
-  {n(1,0),n(1,0),n(1,1),n(1,1),n(1,2),n(1,2),n(1,3),n(1,3),n(1,4),n(1,4),n(1,5),n(1,5),n(1,6),n(1,6),n(1,7),n(1,7)},
-  {0,0,0,0,n(1,7),0,0,0,0,0,0,0,n(1,7),0,0,0},
-  {0,0,0,0,n(1,7),0,0,0,0,0,0,0,n(1,7),0,n(1,3),n(1,5)},
-  {0,0,0,0,n(1,7),0,0,0,0,0,0,0,0,0,0,0},
+  {kLast | 8, n(1,2)},
+  {0, n(1,0)}, {1, n(1,0)}, {2, n(1,1)}, {3, n(1,1)}, {4, n(1,2)}, {5, n(1,2)}, {6, n(1,3)}, {7, n(1,3)}, {8, n(1,4)}, {9, n(1,4)}, {10, n(1,5)}, {11, n(1,5)}, {12, n(1,6)}, {13, n(1,6)}, {14, n(1,7)}, {kLast | 15, n(1,7)},
+  {4, n(1,7)}, {kLast | 12, n(1,7)},
+  {4, n(1,7)}, {12, n(1,7)}, {14, n(1,3)}, {kLast | 15, n(1,5)},
+  {kLast | 4, n(1,7)},
   // HAT: a soft offbeat 8ths; b 16ths with accented offbeats
-  {0,0,n(1,3),0,0,0,n(1,3),0,0,0,n(1,3),0,0,0,n(1,3),0},
-  {n(1,2),n(1,1),n(1,6),n(1,1),n(1,2),n(1,1),n(1,6),n(1,2),n(1,2),n(1,1),n(1,6),n(1,1),n(1,2),n(1,1),n(1,6),n(1,3)},
+  {2, n(1,3)}, {6, n(1,3)}, {10, n(1,3)}, {kLast | 14, n(1,3)},
+  {0, n(1,2)}, {1, n(1,1)}, {2, n(1,6)}, {3, n(1,1)}, {4, n(1,2)}, {5, n(1,1)}, {6, n(1,6)}, {7, n(1,2)}, {8, n(1,2)}, {9, n(1,1)}, {10, n(1,6)}, {11, n(1,1)}, {12, n(1,2)}, {13, n(1,1)}, {14, n(1,6)}, {kLast | 15, n(1,3)},
   // OHAT: a offbeats
-  {0,0,n(1,4),0,0,0,n(1,4),0,0,0,n(1,4),0,0,0,n(1,4),0},
+  {2, n(1,4)}, {6, n(1,4)}, {10, n(1,4)}, {kLast | 14, n(1,4)},
   // CRASH: a soft, at the knock; b downbeat
-  {0,0,0,0,0,0,0,0,n(1,6),0,0,0,0,0,0,0},
-  {n(1,7),0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
+  {kLast | 8, n(1,6)},
+  {kLast | 0, n(1,7)},
   // RISER: a, two bars
-  {n(1, l32), 0,0,0,0,0,0,0,0,0,0,0,0,0,0,0},
+  {kLast | 0, n(1, l32)},
 };
 
 // Chords: root (for kRoot channels) and four tones, MIDI notes.
@@ -195,24 +200,24 @@ const u8 kChords[][5] = {
   {33, 55, 61, 64, 69},  // k A7
 };
 
-// One letter per bar: the chord, then each channel's pattern ('.' = none).
-//                          scene 1 (dark)  | scene 2 (bright)
-const char kHarmony[33] =  "aabbccddaabbeedd" "fghifghifjigfgik";
-const char kOrder[kChannels][33] = {
-  /* PAD   */               "a.a.a.a.a.a.a.a." ".........bb.....",
-  /* STAB  */               "................" "aaabaaabaaabaaab",
-  /* SUB   */               "..a.a.a.a.a.a.a." "................",
-  /* BASS  */               "................" "aaabaaabaccbaaab",
-  /* LEAD  */               "................" "....abcdefghabdi",
-  /* BELL  */               ".....abcdefghijk" "................",
-  /* METAL */               "....a..........." "................",
-  /* KICK  */               "....a...bbbbcccd" "eeeeeeeee..eeeef",
-  /* SNARE */               "............aaab" "cccdcccdc..dccce",
-  /* HAT   */               "............aaaa" "bbbbbbbbbaabbbba",
-  /* OHAT  */               "................" "....aaaa....aaa.",
-  /* CRASH */               "....a..........." "b...b...b..bb...",
-  /* RISER */               "..............a." ".........a......",
-};
+// One letter per bar, 32 bars a row: the chord, then each channel's pattern
+// ('.' = none). kSong[32 * (1 + channel) + bar].
+//              scene 1 (dark)  | scene 2 (bright)
+const char kSong[] =
+  /* chord */ "aabbccddaabbeedd" "fghifghifjigfgik"
+  /* PAD   */ "a.a.a.a.a.a.a.a." ".........bb....."
+  /* STAB  */ "................" "aaabaaabaaabaaab"
+  /* SUB   */ "..a.a.a.a.a.a.a." "................"
+  /* BASS  */ "................" "aaabaaabaccbaaab"
+  /* LEAD  */ "................" "....abcdefghabdi"
+  /* BELL  */ ".....abcdefghijk" "................"
+  /* METAL */ "....a..........." "................"
+  /* KICK  */ "....a...bbbbcccd" "eeeeeeeee..eeeef"
+  /* SNARE */ "............aaab" "cccdcccdc..dccce"
+  /* HAT   */ "............aaaa" "bbbbbbbbbaabbbba"
+  /* OHAT  */ "................" "....aaaa....aaa."
+  /* CRASH */ "....a..........." "b...b...b..bb..."
+  /* RISER */ "..............a." ".........a......";
 // clang-format on
 
 // ---------------------------------------------------------------- voices
@@ -286,13 +291,21 @@ found:
 bool trigger(int song, Voice* pool, SynthReport& rep) {
   bool kick = false;
   int bar = song >> 4, pos = song & 15;
-  const u8* chord = kChords[kHarmony[bar] - 'a'];
+  const u8* chord = kChords[kSong[bar] - 'a'];
   for (int c = 0; c < kChannels; ++c) {
-    char o = kOrder[c][bar];
+    char o = kSong[32 * (1 + c) + bar];
     if (o == '.') continue;
     const ChannelDef& d = kChannelDefs[c];
-    int b = kPatterns[d.patterns + o - 'a'][pos];
-    if (!b) continue;
+    const Event* e = kEvents; // skip to the pattern's first event
+    for (int k = d.patterns + o - 'a'; k > 0; --k) {
+      while (!(e->step & kLast))
+        ++e;
+      ++e;
+    }
+    while ((e->step & 15) != pos && !(e->step & kLast))
+      ++e;
+    if ((e->step & 15) != pos) continue;
+    int b = e->note;
     kick |= c == KICK;
     int code = b >> 5, note = d.base + (b & 31) - 1, steps = kLength[code];
     float vel = 1.0f;
@@ -314,13 +327,11 @@ bool trigger(int song, Voice* pool, SynthReport& rep) {
 
 // Adds n samples of voice v to its bus's stereo pair and the delay send.
 // mix: 5 blocks of kBlockMax: left, right of bus 0; left, right of bus 1; send.
-void render_voice(Voice& voice, float* mix, int n) {
-  Voice v = voice;
-  float* L = mix + v.bus * 2 * kBlockMax;
-  float* R = L + kBlockMax;
-  float* S =
-      mix +
-      4 * kBlockMax; // a local copy stays in registers (stores to L, R, S could alias `voice`)
+void render_voice(Voice& v, float* mix, int n) {
+  // restrict: the mix buffers never alias the voice, so its fields stay in registers.
+  float* __restrict L = mix + v.bus * 2 * kBlockMax;
+  float* __restrict R = L + kBlockMax;
+  float* __restrict S = mix + 4 * kBlockMax;
   for (int i = 0; i < n; ++i) {
     if (v.gate > 0) {
       --v.gate;
@@ -348,13 +359,8 @@ void render_voice(Voice& voice, float* mix, int n) {
     if (v.ph >= 1.0f) v.ph -= 1.0f;
     v.ph2 += v.inc2 * bend;
     if (v.ph2 >= 1.0f) v.ph2 -= 1.0f;
-    float x;
-    if (v.wave == 0)
-      x = rt_sin_turns(v.ph + v.fm * v.amp * rt_sin_turns(v.ph2));
-    else if (v.wave == 1)
-      x = v.ph + v.ph2 - 1.0f;
-    else
-      x = (v.ph < 0.5f ? 0.5f : -0.5f) + (v.ph2 < 0.5f ? 0.5f : -0.5f);
+    float x = v.wave ? v.ph + v.ph2 - 1.0f // two saws
+                     : rt_sin_turns(v.ph + v.fm * v.amp * rt_sin_turns(v.ph2));
     if (v.noise > 0.0f) {
       v.seed = v.seed * 1664525u + 1013904223u;
       x += ((float)(i32)v.seed * (1.0f / 2147483648.0f) - x) * v.noise;
@@ -377,7 +383,6 @@ void render_voice(Voice& voice, float* mix, int n) {
     R[i] += y * v.gr;
     S[i] += y * v.gs;
   }
-  voice = v;
 }
 
 } // namespace
@@ -427,11 +432,12 @@ SynthReport synth_render(short* out, int frames, float* scratch) {
       duck *= duckCoef;
       int t = start + i;
       if (t < 0) continue; // preroll
-      float l = (mix[i] + el) * g + mix[i + 2 * kBlockMax] * kMaster;
-      float r = (mix[i + kBlockMax] + er) * g + mix[i + 3 * kBlockMax] * kMaster;
-      rep.peak = rt_max(rep.peak, rt_max(rt_abs(l), rt_abs(r)));
-      out[2 * t] = (short)rt_round(rt_clamp(l, -1.0f, 1.0f) * 32767.0f);
-      out[2 * t + 1] = (short)rt_round(rt_clamp(r, -1.0f, 1.0f) * 32767.0f);
+      float echo[2] = {el, er};
+      for (int c = 0; c < 2; ++c) { // left, right
+        float y = (mix[i + c * kBlockMax] + echo[c]) * g + mix[i + (2 + c) * kBlockMax] * kMaster;
+        rep.peak = rt_max(rep.peak, rt_abs(y));
+        out[2 * t + c] = (short)rt_round(rt_clamp(y, -1.0f, 1.0f) * 32767.0f);
+      }
     }
   }
   __builtin_ia32_ldmxcsr(csr);

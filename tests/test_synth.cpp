@@ -139,6 +139,20 @@ TEST(Synth, LevelsAndMoodPerScene) {
   EXPECT_GT(b2, 2 * b1);
 }
 
+// No DC offset: the mean of each channel over each scene is within 1e-3 of
+// full scale (-60 dB).
+TEST(Synth, NoDcOffset) {
+  const Track& t = track();
+  for (int half = 0; half < 2; ++half)
+    for (int c = 0; c < 2; ++c) {
+      double sum = 0;
+      for (int i = half * kAudioFrames / 2; i < (half + 1) * kAudioFrames / 2; ++i)
+        sum += t.samples[2 * i + c];
+      double mean = sum / (kAudioFrames / 2) / 32767.0;
+      EXPECT_LT(std::fabs(mean), 1e-3) << "scene " << half + 1 << " channel " << c;
+    }
+}
+
 // The knock in scene 1 (9 s) is an accent: the 0.25 s after it are at least
 // 6 dB louder than the 0.5 s before.
 TEST(Synth, KnockAccentAtNineSeconds) {

@@ -91,7 +91,7 @@ const ChannelDef kChannelDefs[kChannels] = {
   //kind        base pat wave osc2 fm noise  att  dec sus  rel  cut fenv fdec filter      pitch pdec vol pan send
   {kChord,        0,  0,  1,  12,   0,   0, 176, 200, 160, 140, 150, -6, 192, 31 << 2 | 0,  0,  0,  40,   0,  90}, // PAD dark saw pad
   {kChord,       12,  2,  1,  16,   0,   0,   0, 104,   0, 104, 200,  8, 112, 21 << 2 | 0,  0,  0,  58,   0, 110}, // STAB offbeat pluck
-  {kRoot,         0,  4,  0,  16,   8,   0, 168, 200, 200, 150, 255,  0,   0, 31 << 2 | 3,  0,  0,  60,   0,   0}, // SUB sine sub bass
+  {kRoot,         0,  4,  0,  16,   8,   0, 168, 200, 200, 150, 255,  0,   0, 31 << 2 | 3,  0,  0,  72,   0,   0}, // SUB sine sub bass
   {kRoot,         0,  5,  1,   4,   0,   0,   0, 128, 100,  96, 150, 16, 112, 15 << 2 | 0,  0,  0, 112,   0,   0}, // BASS rolling saw bass
   {kPlain,       69,  8,  1,  10,   0,   0,  64, 160, 170, 112, 215,  4, 128, 31 << 2 | 0,  0,  0,  92, -10, 100}, // LEAD saw lead
   {kPlain,       57, 17,  0,  56,   6,   0,   0, 152,   0, 152, 192,  0,   0, 31 << 2 | 0,  0,  0,  72,  20, 150}, // BELL FM glass bell
@@ -278,8 +278,12 @@ found:
   v->gate = steps * 11025 >> 1;
   v->seed = seed;
   if (!(d.kind & kPhase0)) {
+    // A random start. The FM modulator keeps its phase relation to the
+    // carrier (as if both had started together earlier): with ratio 1 an
+    // offset between them would put DC into sin(ph + k sin(ph2)).
     v->ph = (float)(seed >> 8) * (1.0f / 16777216);
-    v->ph2 = (float)(seed & 0xffffff) * (1.0f / 16777216);
+    float ph2 = v->ph * d.osc2 * (1.0f / 16);
+    v->ph2 = d.wave ? (float)(seed & 0xffffff) * (1.0f / 16777216) : ph2 - rt_floor(ph2);
   }
   v->wave = d.wave;
   v->mode = d.filter & 3;

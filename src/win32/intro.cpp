@@ -10,6 +10,7 @@
 #define _WIN32_WINNT 0x0601  // Windows 7: SetProcessDPIAware, AttachConsole
 #include <windows.h>
 
+#include "overlay.h"
 #include "scenes.h"
 #include "text.h"
 #include "trace.h"
@@ -229,6 +230,7 @@ double process_cpu_seconds() {
     }
     build_timeline_scene(job.scene, t);
     render_frame(job, workers);
+    overlay_draw(job.pixels, kWidth, kHeight, kWidth, timeline_wrap(t));  // the captions
     StretchDIBits(dc, 0, 0, kWidth, kHeight, 0, 0, kWidth, kHeight, job.pixels, &kDib,
                   DIB_RGB_COLORS, SRCCOPY);
     if (options.bench && frame + 1 == kBenchFrames) {

@@ -5,7 +5,8 @@
 // kSong. Notes go to a shared pool of voices; a voice is two oscillators
 // (saws, or a sine with FM), noise, a state-variable filter with an
 // envelope, a pitch envelope and an attack-decay-sustain-release amplifier.
-// Voices mix into a dry stereo pair and a send to one ping-pong delay.
+// Voices mix into two stereo buses (instruments, ducked by each kick; drums)
+// and a send to one ping-pong delay.
 //
 // Time: 120 BPM, a 16th-note step is 5512.5 samples, a bar 16 steps (2 s);
 // 32 bars make the 64-s loop: bars 0-15 scene 1, bars 16-31 scene 2.

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "audio.h"
 #include "bench.h"
 #include "overlay.h"
 #include "frame.h"
@@ -32,6 +33,8 @@ const char* kUsage =
     "      (default full,copy8,adaptive4,adaptive8,adaptive16) and prints a Markdown table\n"
     "      of ms/frame, rays/pixel and error against the full trace; writes CSV (default\n"
     "      bench.csv) and, with --plot, a PNG of ms/frame against PSNR (needs gnuplot)\n"
+    "  rt64k audio --out FILE.wav\n"
+    "      the intro's 64-s music loop, sample for sample what intro.exe plays\n"
     "  rt64k --help\n"
     "\n"
     "defaults: --size 800x600, --view color, --mode adaptive, --block 8, --threads = all cores\n"
@@ -326,6 +329,7 @@ int main(int argc, char** argv) {
     if (cmd == "scene") return cmd_scene(argc, argv);
     if (cmd == "sheet") return cmd_sheet(argc, argv);
     if (cmd == "bench") return cmd_bench(argc, argv);
+    if (cmd == "audio") return cmd_audio(argc, argv);
     fail("unknown command '" + cmd + "' (try rt64k --help)");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "rt64k: %s\n", e.message.c_str());

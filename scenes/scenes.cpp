@@ -112,7 +112,7 @@ void build_scene2(Scene& s, float t) {
   s.ambient = v3(0.22f, 0.24f, 0.28f);
   s.maxDepth = 5;
 
-  Material gold = cook(v3(1.0f, 0.76f, 0.33f), 0.35f, 0.9f, 0.22f, 0.85f, 0.55f);
+  Material gold = cook(v3(1.0f, 0.66f, 0.18f), 0.5f, 0.9f, 0.22f, 0.85f, 0.42f);
   Material glassA = cook(v3(1.0f, 0.45f, 0.75f), 0.08f, 0.8f, 0.12f, 0.05f, 0.12f, 0.8f, 1.45f);
   Material glassB = cook(v3(0.35f, 0.95f, 0.85f), 0.08f, 0.8f, 0.12f, 0.05f, 0.12f, 0.8f, 1.45f);
   Material stage = cook(v3(0.95f, 0.55f, 0.3f), 0.8f, 0.35f, 0.35f, 0.1f, 0.25f);
@@ -146,8 +146,8 @@ void build_scene2(Scene& s, float t) {
   scene_add_light(s, v3(6.0f, 5.0f, -2.0f), v3(0.55f, 0.6f, 0.75f));
 
   float orbit = -0.9f + 1.8f * smooth01(t / kSceneSeconds);
-  float height = 2.2f + 1.6f * rt_sin(kPi * t / kSceneSeconds);
-  s.camera = Camera{v3(10.0f * rt_sin(orbit), height, -10.0f * rt_cos(orbit)), v3(0, 1.4f, 0),
+  float height = 2.0f + 1.5f * rt_sin(kPi * t / kSceneSeconds);
+  s.camera = Camera{v3(8.6f * rt_sin(orbit), height, -8.6f * rt_cos(orbit)), v3(0, 1.35f, 0),
                     v3(0, 1, 0), 48.0f * kPi / 180.0f};
   apply_fade(s, t);
 }

@@ -7,7 +7,7 @@
 // ExitProcess (0 for Esc, closing the window and the end of /bench; 1 when
 // the system refuses memory, a thread or the window).
 #define WIN32_LEAN_AND_MEAN
-#define _WIN32_WINNT 0x0601  // Windows 7: SetProcessDPIAware, AttachConsole
+#define _WIN32_WINNT 0x0601 // Windows 7: SetProcessDPIAware, AttachConsole
 #include <windows.h>
 
 #include "overlay.h"
@@ -17,11 +17,11 @@
 
 namespace {
 
-constexpr int kWidth = 800;   // client area and framebuffer, pixels
+constexpr int kWidth = 800; // client area and framebuffer, pixels
 constexpr int kHeight = 600;
-// A work item is a band of kBandRows rows. 8 divides 600 and is the thesis's
-// block size, so an adaptive renderer working in 8-px blocks can take the
-// same bands. 75 bands keep every core busy to the end of a frame.
+// A work item of the full trace is a band of kBandRows rows. 8 divides 600
+// and is one of the thesis's block sizes; 75 bands keep every core busy to
+// the end of a frame.
 constexpr int kBandRows = 8;
 constexpr int kBands = kHeight / kBandRows;
 static_assert(kHeight % kBandRows == 0, "bands must tile the frame");
@@ -35,7 +35,7 @@ constexpr DWORD kMaxWorkers = 64;
 constexpr int kBenchFrames = 32;
 constexpr double kBenchStep = (double)kTimelineSeconds / kBenchFrames;
 constexpr double kBenchFirst = kBenchStep / 2;
-constexpr int kBenchDecimals = 2;  // fps and seconds in the report
+constexpr int kBenchDecimals = 2; // fps and seconds in the report
 
 const char kClassName[] = "rt64k";
 const char kWindowTitle[] = "rt64k";
@@ -50,34 +50,37 @@ constexpr DWORD kWindowStyle = WS_OVERLAPPED | WS_CAPTION | WS_SYSMENU | WS_MINI
 const BITMAPINFO kDib = {{sizeof(BITMAPINFOHEADER), kWidth, -kHeight, 1, 32, BI_RGB, 0, 0, 0, 0, 0},
                          {}};
 
-// One frame's work, shared by the main thread and the workers. It lives on
-// the main thread's stack (mutable globals would land in the file: MinGW
-// puts zero-initialised data of -fdata-sections builds into .data). The
-// main thread writes `scene` and resets the counters only while every
-// worker waits on `start`; the semaphore release and the interlocked
-// operations order those writes before the workers' reads.
+// One pass of work items, shared by the main thread and the workers. A
+// frame is one pass of the full trace; a renderer with phases (the adaptive
+// one: corners, then blocks) runs one pass per phase. The job lives on the
+// main thread's stack (mutable globals would land in the file: MinGW puts
+// zero-initialised data of -fdata-sections builds into .data). The main
+// thread writes `scene`, `items` and the counters only while every worker
+// waits on `start`; the semaphore release and the interlocked operations
+// order those writes before the workers' reads.
 struct FrameJob {
   Scene scene;
   u32* pixels;              // kWidth x kHeight, rows kWidth pixels apart
-  HANDLE start;             // semaphore: one count per worker per frame
+  HANDLE start;             // semaphore: one count per worker per pass
   HANDLE done;              // auto-reset event: set by the last worker to finish
-  volatile LONG nextBand;   // next band to take
+  LONG items;               // work items in this pass
+  volatile LONG nextItem;   // next item to take
   volatile LONG busyCounts; // counts of `start` taken and not yet handed back
 };
 
-// A render worker. Each frame it takes one count of job.start, pulls bands
+// A render worker. Each pass it takes one count of job.start, pulls items
 // from the shared counter until none is left and calls the core once per
-// band; the worker that hands back the frame's last count signals job.done.
-// A worker may take two counts of one frame; every band is still finished
+// item; the worker that hands back the pass's last count signals job.done.
+// A worker may take two counts of one pass; every item is still finished
 // before its own count is handed back, so "all counts back" means "all
-// bands done".
+// items done".
 DWORD WINAPI render_worker(void* parameter) {
   FrameJob& job = *(FrameJob*)parameter;
   for (;;) {
     WaitForSingleObject(job.start, INFINITE);
-    for (LONG band; (band = InterlockedIncrement(&job.nextBand) - 1) < kBands;)
-      render_full_rows(job.scene, job.pixels, kWidth, kHeight, kWidth, band * kBandRows,
-                       (band + 1) * kBandRows, nullptr);
+    for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;)
+      render_full_rows(job.scene, job.pixels, kWidth, kHeight, kWidth, item * kBandRows,
+                       (item + 1) * kBandRows, nullptr);
     if (InterlockedDecrement(&job.busyCounts) == 0) SetEvent(job.done);
   }
 }
@@ -98,17 +101,18 @@ void pump_messages() {
   }
 }
 
-// Renders job.scene into job.pixels on all workers. The main thread keeps
-// serving the window meanwhile, so Esc acts within one message round trip
-// however long a frame takes.
-void render_frame(FrameJob& job, LONG workers) {
-  job.nextBand = 0;
+// Runs `items` work items on all workers and returns when all are done.
+// The main thread keeps serving the window meanwhile, so Esc acts within one
+// message round trip however long a frame takes.
+void run_pass(FrameJob& job, LONG workers, LONG items) {
+  job.items = items;
+  job.nextItem = 0;
   job.busyCounts = workers;
   ReleaseSemaphore(job.start, workers, nullptr);
   for (;;) {
     pump_messages();
-    if (MsgWaitForMultipleObjectsEx(1, &job.done, INFINITE, QS_ALLINPUT,
-                                    MWMO_INPUTAVAILABLE) == WAIT_OBJECT_0)
+    if (MsgWaitForMultipleObjectsEx(1, &job.done, INFINITE, QS_ALLINPUT, MWMO_INPUTAVAILABLE) ==
+        WAIT_OBJECT_0)
       return;
   }
 }
@@ -132,11 +136,12 @@ void write_bench_report(const char* text, DWORD length) {
 
   char path[kPathChars];
   DWORD n = GetModuleFileNameA(nullptr, path, MAX_PATH);
-  DWORD nameAt = 0;  // where the file name goes: after the exe's last separator
+  DWORD nameAt = 0; // where the file name goes: after the exe's last separator
   if (n > 0 && n < MAX_PATH)
     for (DWORD i = 0; i < n; ++i)
       if (path[i] == '\\' || path[i] == '/') nameAt = i + 1;
-  for (DWORD i = 0; i < sizeof kBenchFileName; ++i) path[nameAt + i] = kBenchFileName[i];
+  for (DWORD i = 0; i < sizeof kBenchFileName; ++i)
+    path[nameAt + i] = kBenchFileName[i];
   HANDLE file =
       CreateFileA(path, GENERIC_WRITE, 0, nullptr, CREATE_ALWAYS, FILE_ATTRIBUTE_NORMAL, nullptr);
   if (file != INVALID_HANDLE_VALUE) {
@@ -148,7 +153,7 @@ void write_bench_report(const char* text, DWORD length) {
 // CPU time (user + kernel) of all the process's threads so far, seconds. On
 // a busy machine the wall-clock fps drops, CPU seconds per frame do not.
 double process_cpu_seconds() {
-  constexpr double kFileTimeTick = 1e-7;  // FILETIME counts 100-ns ticks
+  constexpr double kFileTimeTick = 1e-7; // FILETIME counts 100-ns ticks
   FILETIME creation, exit, kernel, user;
   if (!GetProcessTimes(GetCurrentProcess(), &creation, &exit, &kernel, &user)) return 0.0;
   auto ticks = [](FILETIME f) { return (double)(((u64)f.dwHighDateTime << 32) | f.dwLowDateTime); };
@@ -183,8 +188,8 @@ double process_cpu_seconds() {
   SetProcessDPIAware();
 
   FrameJob job;
-  job.pixels = (u32*)VirtualAlloc(nullptr, kWidth * kHeight * sizeof(u32),
-                                  MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
+  job.pixels = (u32*)VirtualAlloc(nullptr, kWidth * kHeight * sizeof(u32), MEM_COMMIT | MEM_RESERVE,
+                                  PAGE_READWRITE);
   job.start = CreateSemaphoreA(nullptr, 0, kMaxWorkers, nullptr);
   job.done = CreateEventA(nullptr, FALSE, FALSE, nullptr);
   if (!job.pixels || !job.start || !job.done) ExitProcess(1);
@@ -201,14 +206,14 @@ double process_cpu_seconds() {
 
   HINSTANCE instance = GetModuleHandleA(nullptr);
   WNDCLASSA windowClass = {};
-  windowClass.style = CS_OWNDC;  // one DC kept for the whole run
+  windowClass.style = CS_OWNDC; // one DC kept for the whole run
   windowClass.lpfnWndProc = window_proc;
   windowClass.hInstance = instance;
   windowClass.hCursor = LoadCursorA(nullptr, (LPCSTR)IDC_ARROW);
   windowClass.lpszClassName = kClassName;
   RegisterClassA(&windowClass);
   RECT outer = {0, 0, kWidth, kHeight};          // the client area we want ...
-  AdjustWindowRect(&outer, kWindowStyle, FALSE);  // ... and the window around it
+  AdjustWindowRect(&outer, kWindowStyle, FALSE); // ... and the window around it
   HWND window = CreateWindowExA(0, kClassName, kWindowTitle, kWindowStyle | WS_VISIBLE,
                                 CW_USEDEFAULT, CW_USEDEFAULT, outer.right - outer.left,
                                 outer.bottom - outer.top, nullptr, nullptr, instance, nullptr);
@@ -229,8 +234,8 @@ double process_cpu_seconds() {
       t += seconds_between(start, now, frequency);
     }
     build_timeline_scene(job.scene, t);
-    render_frame(job, workers);
-    overlay_draw(job.pixels, kWidth, kHeight, kWidth, timeline_wrap(t));  // the captions
+    run_pass(job, workers, kBands);
+    overlay_draw(job.pixels, kWidth, kHeight, kWidth, timeline_wrap(t)); // the captions
     StretchDIBits(dc, 0, 0, kWidth, kHeight, 0, 0, kWidth, kHeight, job.pixels, &kDib,
                   DIB_RGB_COLORS, SRCCOPY);
     if (options.bench && frame + 1 == kBenchFrames) {
@@ -240,6 +245,6 @@ double process_cpu_seconds() {
   }
 }
 
-}  // namespace
+} // namespace
 
 extern "C" [[noreturn]] void intro_entry() { run(parse_command_line(GetCommandLineA())); }

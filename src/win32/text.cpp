@@ -36,11 +36,12 @@ bool starts_with(const char* begin, const char* end, const char* prefix) {
 
 double pow10(int k) {
   double p = 1.0;
-  for (int i = 0; i < k; ++i) p *= 10.0;
+  for (int i = 0; i < k; ++i)
+    p *= 10.0;
   return p;
 }
 
-}  // namespace
+} // namespace
 
 bool parse_seconds(const char* begin, const char* end, double* out) {
   if (!begin || !end || begin >= end) return false;
@@ -59,7 +60,7 @@ bool parse_seconds(const char* begin, const char* end, double* out) {
     if (c < '0' || c > '9') return false;
     ++digits;
     if (significant == 0 && c == '0') {
-      if (seenPoint) ++fractionDigits;  // leading zeros of the fraction still scale
+      if (seenPoint) ++fractionDigits; // leading zeros of the fraction still scale
       continue;
     }
     if (significant < kMaxMantissaDigits) {
@@ -67,7 +68,7 @@ bool parse_seconds(const char* begin, const char* end, double* out) {
       ++significant;
       if (seenPoint) ++fractionDigits;
     } else if (!seenPoint) {
-      return false;  // more than 17 integer digits: far above kMaxStartSeconds
+      return false; // more than 17 integer digits: far above kMaxStartSeconds
     }
     // Further fraction digits beyond 17 significant ones are dropped (truncation).
   }
@@ -89,19 +90,24 @@ IntroOptions parse_command_line(const char* line) {
   IntroOptions o{0.0, false, false};
   if (!line) return o;
   const char* p = line;
-  while (is_space(*p)) ++p;
+  while (is_space(*p))
+    ++p;
   // The program name: quoted (may hold spaces) or up to the first blank.
   if (*p == '"') {
     ++p;
-    while (*p && *p != '"') ++p;
+    while (*p && *p != '"')
+      ++p;
     if (*p) ++p;
   }
-  while (*p && !is_space(*p)) ++p;
+  while (*p && !is_space(*p))
+    ++p;
   for (;;) {
-    while (is_space(*p)) ++p;
+    while (is_space(*p))
+      ++p;
     if (!*p) return o;
     const char* begin = p;
-    while (*p && !is_space(*p)) ++p;
+    while (*p && !is_space(*p))
+      ++p;
     if (*begin != '/' && *begin != '-') continue;
     const char* name = begin + 1;
     if (word_is(name, p, "hold")) {
@@ -122,12 +128,13 @@ TextBuffer text_buffer(char* storage, int size) {
 }
 
 void append(TextBuffer& b, const char* s) {
-  while (*s && b.at + 1 < b.end) *b.at++ = *s++;
+  while (*s && b.at + 1 < b.end)
+    *b.at++ = *s++;
   *b.at = '\0';
 }
 
 void append_uint(TextBuffer& b, unsigned long long v) {
-  char digits[24];  // 2^64 has 20 decimal digits
+  char digits[24]; // 2^64 has 20 decimal digits
   int n = 0;
   do {
     digits[n++] = (char)('0' + v % 10);
@@ -141,14 +148,15 @@ void append_uint(TextBuffer& b, unsigned long long v) {
 }
 
 void append_fixed(TextBuffer& b, double v, int decimals) {
-  if (!(v > -kMaxFixed && v < kMaxFixed)) {  // NaN fails both comparisons
+  if (!(v > -kMaxFixed && v < kMaxFixed)) { // NaN fails both comparisons
     append(b, "?");
     return;
   }
   if (decimals < 0) decimals = 0;
   if (decimals > kMaxDecimals) decimals = kMaxDecimals;
   u64 scale = 1;
-  for (int i = 0; i < decimals; ++i) scale *= 10;
+  for (int i = 0; i < decimals; ++i)
+    scale *= 10;
   if (v < 0) {
     v = -v;
     // Only print the sign when something non-zero follows it.
@@ -156,7 +164,7 @@ void append_fixed(TextBuffer& b, double v, int decimals) {
   }
   u64 whole = (u64)v;
   u64 frac = (u64)((v - (double)whole) * (double)scale + 0.5);
-  if (frac >= scale) {  // rounding carried into the integer part
+  if (frac >= scale) { // rounding carried into the integer part
     frac -= scale;
     ++whole;
   }

@@ -13,9 +13,9 @@
 constexpr double kMaxStartSeconds = 1e9;
 
 struct IntroOptions {
-  double startSeconds;  // /t:SECONDS (default 0); finite, |value| <= kMaxStartSeconds
-  bool hold;            // /hold: the clock stands still at startSeconds
-  bool bench;           // /bench: fixed time steps, report frames per second, exit
+  double startSeconds; // /t:SECONDS (default 0); finite, |value| <= kMaxStartSeconds
+  bool hold;           // /hold: the clock stands still at startSeconds
+  bool bench;          // /bench: fixed time steps, report frames per second, exit
 };
 
 // Parses a Win32 command line as GetCommandLineA returns it: the program name
@@ -38,10 +38,10 @@ bool parse_seconds(const char* begin, const char* end, double* out);
 // always NUL-terminated. Text that does not fit is cut off.
 struct TextBuffer {
   char* begin;
-  char* end;  // one past the last byte of the storage (room for the NUL included)
-  char* at;   // where the next character goes
+  char* end; // one past the last byte of the storage (room for the NUL included)
+  char* at;  // where the next character goes
 };
-TextBuffer text_buffer(char* storage, int size);  // size >= 1
+TextBuffer text_buffer(char* storage, int size); // size >= 1
 void append(TextBuffer& b, const char* s);
 void append_uint(TextBuffer& b, unsigned long long v);
 // v with `decimals` (0..9) digits after the point, rounded half up. Values

@@ -42,12 +42,27 @@ skip() {
 
 : "${RT64K_INTRO_EXE:?set by ctest}" "${RT64K_WINE_DIR:?set by ctest}"
 
-# Tools, by command and Debian package.
+# first_executable CANDIDATE...: the first one that is a command or an
+# executable path.
+first_executable() {
+  local c
+  for c in "$@"; do
+    if command -v "$c" >/dev/null 2>&1; then
+      command -v "$c"
+      return 0
+    fi
+  done
+  return 1
+}
+
+# Tools, by command and Debian package. Wine: the `wine` package gives
+# /usr/bin/wine and wineserver; with only `wine64` (apt-get
+# --no-install-recommends) they are /usr/lib/wine/wine64 and wineserver64.
+# RT64K_WINE and RT64K_WINESERVER override the search (another Wine build).
 find_tools() {
-  WINE=$(command -v wine || command -v wine-stable || command -v wine64 ||
-    { [ -x /usr/lib/wine/wine64 ] && echo /usr/lib/wine/wine64; }) || WINE=
-  WINESERVER=$(command -v wineserver || command -v wineserver-stable ||
-    { [ -x /usr/lib/wine/wineserver ] && echo /usr/lib/wine/wineserver; }) || WINESERVER=
+  WINE=$(first_executable ${RT64K_WINE:-} wine wine-stable wine64 /usr/lib/wine/wine64) || WINE=
+  WINESERVER=$(first_executable ${RT64K_WINESERVER:-} wineserver wineserver-stable \
+    /usr/lib/wine/wineserver64 /usr/lib/wine/wineserver) || WINESERVER=
   local missing=""
   [ -n "$WINE" ] || missing+=" wine(packages wine wine64)"
   [ -n "$WINESERVER" ] || missing+=" wineserver(package wine64)"

@@ -10,7 +10,7 @@ extern "C" double sqrt(double);
 
 namespace {
 
-constexpr int kProbeBytes = 256 * 1024;  // 64 pages: far past the guard page
+constexpr int kProbeBytes = 256 * 1024; // 64 pages: far past the guard page
 constexpr unsigned kFailStack = 1, kFailMemset = 2, kFailMemcpy = 4, kFailSqrt = 8;
 
 // A frame of kProbeBytes: GCC calls ___chkstk_ms in the prologue, which must
@@ -20,14 +20,16 @@ constexpr unsigned kFailStack = 1, kFailMemset = 2, kFailMemcpy = 4, kFailSqrt =
 // only, not the probing (a ___chkstk_ms that just returns passes too).
 __attribute__((noinline)) int deep_frame(int seed) {
   volatile unsigned char big[kProbeBytes];
-  for (int i = 0; i < kProbeBytes; i += 4096) big[i] = (unsigned char)(seed + i / 4096);
+  for (int i = 0; i < kProbeBytes; i += 4096)
+    big[i] = (unsigned char)(seed + i / 4096);
   int sum = 0;
-  for (int i = 0; i < kProbeBytes; i += 4096) sum += big[i];
+  for (int i = 0; i < kProbeBytes; i += 4096)
+    sum += big[i];
   return sum;
 }
 
 struct Blob {
-  unsigned char bytes[3000];  // large enough that GCC calls memset/memcpy
+  unsigned char bytes[3000]; // large enough that GCC calls memset/memcpy
 };
 
 // Sizes and inputs pass through volatiles, so GCC cannot inline or fold
@@ -36,16 +38,16 @@ volatile unsigned long long g_blobBytes = sizeof(Blob::bytes);
 volatile float g_minusOne = -1.0f, g_floatSquare = 2.25f;
 volatile double g_doubleSquare = 6.25;
 
-
-}  // namespace
+} // namespace
 
 extern "C" [[noreturn]] void probe_entry() {
   unsigned failed = 0;
   int expected = 0;
-  for (int i = 0; i < kProbeBytes / 4096; ++i) expected += (unsigned char)(7 + i);
+  for (int i = 0; i < kProbeBytes / 4096; ++i)
+    expected += (unsigned char)(7 + i);
   if (deep_frame(7) != expected) failed |= kFailStack;
 
-  static Blob a, b;  // static: the stack stays small here
+  static Blob a, b; // static: the stack stays small here
   __builtin_memset(a.bytes, 0x5a, g_blobBytes);
   for (unsigned char c : a.bytes)
     if (c != 0x5a) failed |= kFailMemset;

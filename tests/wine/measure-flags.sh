@@ -6,6 +6,7 @@
 # docs/win32.md.
 #
 # usage: tests/wine/measure-flags.sh [--bench] [WORK_DIR]   (default /tmp/rt64k-flags)
+#        (--bench uses $WINEPREFIX, else build/wine/prefix, else WORK_DIR/prefix)
 # needs: cmake, ninja or make, g++-mingw-w64-x86-64; --bench also wine and xvfb-run
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -57,7 +58,7 @@ without() {
 # On a shared machine compare the CPU seconds: wall-clock fps varies with load.
 fps() {
   [ $bench = 1 ] || return 0
-  local prefix="$root/build/wine/prefix"
+  local prefix="${WINEPREFIX:-$root/build/wine/prefix}"  # the tests' prefix, if built
   [ -d "$prefix" ] || prefix="$work/prefix"
   (cd "$work/$1" && WINEPREFIX="$prefix" WINEDEBUG=-all xvfb-run -a wine ./intro.exe /bench |
     tr -d '\r' | sed -n 's/.* = \([0-9.]*\) fps, CPU \([0-9.]*\) s/\1 (\2 s)/p')
@@ -90,8 +91,11 @@ row() {
 row "shipped (src/win32 -Os, core -O2 as in flags.cmake)" shipped
 row "src/win32 at -O2 instead of -Os" win32_O2 -DRT64K_WIN32_OPT=-O2
 row "core (src/core, scenes) at -Os instead of -O2" core_Os -DRT64K_CORE_EXTRA=-Os
-row "without -fno-asynchronous-unwind-tables -fno-unwind-tables" unwind \
-  "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-asynchronous-unwind-tables -fno-unwind-tables)"
+# Unwind tables (.pdata) and no --gc-sections keep every function alive,
+# src/win32/audio.cpp's too, which then needs winmm to link.
+row "without -fno-asynchronous-unwind-tables -fno-unwind-tables (+ -lwinmm)" unwind \
+  "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-asynchronous-unwind-tables -fno-unwind-tables)" \
+  -DRT64K_EXTRA_LIBS=winmm
 row "without -ffunction-sections -fdata-sections" sections \
   "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -ffunction-sections -fdata-sections)"
 row "without -fno-ident" ident "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-ident)"
@@ -99,6 +103,7 @@ row "without -fno-stack-protector" protector \
   "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-stack-protector)"
 row "with -fmerge-all-constants" merge "-DRT64K_SIZE_FLAGS=$sizeFlags;-fmerge-all-constants"
 row "without -s (symbols kept)" strip "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -s)"
-row "without -Wl,--gc-sections" gc "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--gc-sections)"
+row "without -Wl,--gc-sections (+ -lwinmm)" gc \
+  "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--gc-sections)" -DRT64K_EXTRA_LIBS=winmm
 row "without --disable-reloc-section (relocations, ASLR on)" reloc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--disable-reloc-section -Wl,--disable-dynamicbase -Wl,--disable-high-entropy-va)"

@@ -26,7 +26,8 @@ std::string fixed(double v, int decimals) {
 }
 
 TEST(CommandLine, NullAndEmptyGiveDefaults) {
-  for (const char* line : {(const char*)nullptr, "", "   ", "intro.exe", "\"C:\\a b\\intro.exe\""}) {
+  for (const char* line :
+       {(const char*)nullptr, "", "   ", "intro.exe", "\"C:\\a b\\intro.exe\""}) {
     IntroOptions o = parse_command_line(line);
     EXPECT_EQ(o.startSeconds, 0.0);
     EXPECT_FALSE(o.hold);
@@ -52,18 +53,20 @@ TEST(CommandLine, ProgramNameIsSkipped) {
   IntroOptions o = parse("\"C:\\demo /hold /t:5\\intro.exe\" /t:7");
   EXPECT_EQ(o.startSeconds, 7.0);
   EXPECT_FALSE(o.hold);
-  o = parse("Z:\\x\\intro.exe/hold /bench");  // no blank: still the program name
+  o = parse("Z:\\x\\intro.exe/hold /bench"); // no blank: still the program name
   EXPECT_FALSE(o.hold);
   EXPECT_TRUE(o.bench);
-  o = parse("\"unterminated /hold");  // a quote never closed: all program name
+  o = parse("\"unterminated /hold"); // a quote never closed: all program name
   EXPECT_FALSE(o.hold);
 }
 
 TEST(CommandLine, MalformedAndUnknownOptionsAreIgnored) {
-  const char* junk[] = {"/t:",     "/t:abc",  "/t:1e5", "/t:1.2.3", "/t:--5", "/t:nan",
-                        "/t:inf",  "/t:+",    "/t:.",   "/t:12x",   "/t: 5",  "/holdx",
-                        "/benchmark", "hold",  "t:5",    "/",        "-",      "//",
-                        "/t:1000000001", "/t:99999999999999999999999999", "\"/t:5\""};
+  const char* junk[] = {"/t:",        "/t:abc", "/t:1e5",        "/t:1.2.3",
+                        "/t:--5",     "/t:nan", "/t:inf",        "/t:+",
+                        "/t:.",       "/t:12x", "/t: 5",         "/holdx",
+                        "/benchmark", "hold",   "t:5",           "/",
+                        "-",          "//",     "/t:1000000001", "/t:99999999999999999999999999",
+                        "\"/t:5\""};
   for (const char* j : junk) {
     IntroOptions o = parse(std::string("intro.exe /t:12 ") + j);
     EXPECT_EQ(o.startSeconds, 12.0) << j;
@@ -87,16 +90,18 @@ TEST(ParseSeconds, MatchesStrtodForShortDecimals) {
     std::string s = coin(rng) ? "-" : "";
     int ni = intDigits(rng), nf = fracDigits(rng);
     if (ni + nf == 0) ni = 1;
-    for (int k = 0; k < ni; ++k) s += char('0' + digit(rng));
+    for (int k = 0; k < ni; ++k)
+      s += char('0' + digit(rng));
     if (nf || coin(rng)) s += '.';
-    for (int k = 0; k < nf; ++k) s += char('0' + digit(rng));
+    for (int k = 0; k < nf; ++k)
+      s += char('0' + digit(rng));
     double expected = std::strtod(s.c_str(), nullptr), got = -12345.0;
     bool ok = parse_number(s, &got);
     if (std::fabs(expected) > kMaxStartSeconds) {
       EXPECT_FALSE(ok) << s;
     } else {
       ASSERT_TRUE(ok) << s;
-      ASSERT_EQ(got, expected) << s;  // bit-exact: correctly rounded
+      ASSERT_EQ(got, expected) << s; // bit-exact: correctly rounded
     }
   }
 }
@@ -105,11 +110,12 @@ TEST(ParseSeconds, LongDecimalsAreClose) {
   std::mt19937_64 rng(7);
   std::uniform_int_distribution<int> digit(0, 9);
   for (int i = 0; i < 100000; ++i) {
-    std::string s = std::to_string(1 + digit(rng)) + ".";  // [1, 10]: relative = absolute scale
-    for (int k = 0; k < 25; ++k) s += char('0' + digit(rng));
+    std::string s = std::to_string(1 + digit(rng)) + "."; // [1, 10]: relative = absolute scale
+    for (int k = 0; k < 25; ++k)
+      s += char('0' + digit(rng));
     double expected = std::strtod(s.c_str(), nullptr), got;
     ASSERT_TRUE(parse_number(s, &got)) << s;
-    ASSERT_LE(std::fabs(got - expected), 4 * std::ldexp(1.0, -52) * 10) << s;  // 4 ulps of 10
+    ASSERT_LE(std::fabs(got - expected), 4 * std::ldexp(1.0, -52) * 10) << s; // 4 ulps of 10
   }
 }
 
@@ -118,11 +124,11 @@ TEST(ParseSeconds, EdgeCases) {
   EXPECT_TRUE(parse_number("1000000000", &v));
   EXPECT_EQ(v, 1e9);
   EXPECT_FALSE(parse_number("1000000000.5", &v));
-  EXPECT_TRUE(parse_number("0000000000000000000000000000012", &v));  // leading zeros
+  EXPECT_TRUE(parse_number("0000000000000000000000000000012", &v)); // leading zeros
   EXPECT_EQ(v, 12.0);
-  EXPECT_TRUE(parse_number("0.0000000000000000000000000000001", &v));  // > 22 fraction digits
+  EXPECT_TRUE(parse_number("0.0000000000000000000000000000001", &v)); // > 22 fraction digits
   EXPECT_NEAR(v, 1e-31, 1e-45);
-  EXPECT_TRUE(parse_number("3.14159265358979323846264338327950288", &v));  // digits dropped
+  EXPECT_TRUE(parse_number("3.14159265358979323846264338327950288", &v)); // digits dropped
   EXPECT_NEAR(v, 3.141592653589793, 1e-15);
   EXPECT_TRUE(parse_number(".5", &v));
   EXPECT_EQ(v, 0.5);
@@ -133,7 +139,7 @@ TEST(ParseSeconds, EdgeCases) {
   v = 99;
   EXPECT_FALSE(parse_seconds(nullptr, nullptr, &v));
   const char* s = "12";
-  EXPECT_FALSE(parse_seconds(s + 2, s, &v));  // end before begin
+  EXPECT_FALSE(parse_seconds(s + 2, s, &v)); // end before begin
   EXPECT_EQ(v, 99);
 }
 
@@ -161,21 +167,22 @@ TEST(CommandLine, RandomBytesAreSafe) {
 TEST(TextBuffer, FixedPoint) {
   EXPECT_EQ(fixed(0.0, 2), "0.00");
   EXPECT_EQ(fixed(4.6, 2), "4.60");
-  EXPECT_EQ(fixed(6.125, 2), "6.13");   // exact half: rounds up
-  EXPECT_EQ(fixed(9.999, 2), "10.00");  // rounding carries into the integer part
+  EXPECT_EQ(fixed(6.125, 2), "6.13");  // exact half: rounds up
+  EXPECT_EQ(fixed(9.999, 2), "10.00"); // rounding carries into the integer part
   EXPECT_EQ(fixed(123.0, 0), "123");
   EXPECT_EQ(fixed(-2.5, 1), "-2.5");
-  EXPECT_EQ(fixed(-0.001, 2), "0.00");  // no "-0.00"
+  EXPECT_EQ(fixed(-0.001, 2), "0.00"); // no "-0.00"
   EXPECT_EQ(fixed(1e14 + 0.25, 2), "100000000000000.25");
   EXPECT_EQ(fixed(1e15, 2), "?");
   EXPECT_EQ(fixed(NAN, 2), "?");
   EXPECT_EQ(fixed(INFINITY, 2), "?");
-  EXPECT_EQ(fixed(0.5, 99), "0.500000000");  // decimals clamped to 9
+  EXPECT_EQ(fixed(0.5, 99), "0.500000000"); // decimals clamped to 9
 }
 
 TEST(TextBuffer, NeverOverflows) {
   char storage[8];
-  for (char& c : storage) c = 'X';
+  for (char& c : storage)
+    c = 'X';
   TextBuffer b = text_buffer(storage, 5);
   append(b, "abcdefgh");
   append_uint(b, 18446744073709551615ull);
@@ -188,4 +195,4 @@ TEST(TextBuffer, NeverOverflows) {
   EXPECT_STREQ(big, "18446744073709551615");
 }
 
-}  // namespace
+} // namespace

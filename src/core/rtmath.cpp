@@ -23,10 +23,15 @@ double cos_poly(double r) {
 // sin(x + quadrant * pi/2).
 float sin_quadrant(float x, int quadrant) {
   constexpr double kTwoOverPi = 0.63661977236758134;
-  constexpr double kHalfPi = 1.5707963267948966;  // error 6e-17: k*6e-17 < 1e-11 for |x|<1e5
+  // Cody-Waite: pi/2 = kHalfPiHi + kHalfPiLo, Hi with 33 significant bits so
+  // k * Hi is exact for |k| < 2^20 and x - k * Hi is exact; the pair carries
+  // ~86 bits of pi/2. (One double pi/2 left an error of k * 6e-17 ~ 1e-11 in
+  // r, i.e. thousands of ulps for floats near a multiple of pi/2.)
+  constexpr double kHalfPiHi = 1.5707963267341256;
+  constexpr double kHalfPiLo = 6.077100506506192e-11;
   double xd = x;
   i32 k = rt_round(xd * kTwoOverPi);
-  double r = xd - k * kHalfPi;
+  double r = (xd - k * kHalfPiHi) - k * kHalfPiLo;
   switch ((k + quadrant) & 3) {
   case 0: return (float)sin_poly(r);
   case 1: return (float)cos_poly(r);
@@ -51,18 +56,25 @@ double asin_small(double z) {
 float rt_sin(float x) { return sin_quadrant(x, 0); }
 float rt_cos(float x) { return sin_quadrant(x, 1); }
 
-float rt_exp2(float x) {
-  if (!(x > -126.0f)) return 0.0f;  // underflow (and NaN) -> 0: a light term that vanishes
-  if (x > 127.0f) x = 127.0f;       // saturate: 2^127 is finite; no Inf leaves this function
+namespace {
+
+// 2^x for a double x, so that rt_exp's x * log2(e) keeps its low bits: in
+// float that product's rounding alone gave |x| * 6e-8 relative error.
+float exp2_core(double x) {
+  if (!(x > -126.0)) return 0.0f;  // underflow (and NaN) -> 0: a light term that vanishes
+  if (x > 127.0) x = 127.0;        // saturate: 2^127 is finite; no Inf leaves this function
   i32 k = rt_round(x);
-  float f = (x - (float)k) * 0.693147180559945f;  // |f| <= ln2/2
+  float f = (float)((x - k) * 0.6931471805599453);  // |f| <= ln2/2
   // e^f, Taylor to f^7: truncation (ln2/2)^8/8! = 5e-9.
   float p = 1 + f * (1 + f * (0.5f + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 +
             f * (1.0f / 720 + f * (1.0f / 5040)))))));
   return p * rt_from_bits((u32)(k + 127) << 23);
 }
 
-float rt_exp(float x) { return rt_exp2(x * 1.44269504088896f); }
+}  // namespace
+
+float rt_exp2(float x) { return exp2_core(x); }
+float rt_exp(float x) { return exp2_core(x * 1.4426950408889634); }
 
 float rt_log2(float x) {
   if (!(x >= 1.17549435e-38f)) return -126.0f;  // zero, negative, denormal, NaN

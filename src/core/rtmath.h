@@ -40,18 +40,23 @@ inline float rt_floor(float x) {
   return t > x ? t - 1.0f : t;
 }
 
-// sin and cos of x in radians. Reduction by pi/2 and the polynomials run in
-// double, so the result is within 1 ulp of float for |x| <= 1e5 (measured in
-// test_math: see README). Scenes and the synth use |x| < 1e4.
+// sin and cos of x in radians. Reduction by pi/2 (Cody-Waite, two parts) and
+// the polynomials run in double, so the result is within 1 ulp of float for
+// |x| <= 1e5, also next to multiples of pi/2 (measured in test_math: see
+// README). Scenes and the synth use |x| < 1e4.
 float rt_sin(float x);
 float rt_cos(float x);
-// 2^x, e^x: relative error <= 4e-7 for results in the normal float range;
-// underflow returns 0, overflow saturates to 2^128-ish (never Inf).
+// 2^x, e^x: relative error <= 4e-7 for -126 < x <= 127 (rt_exp: for
+// -126 < x log2(e) <= 127, i.e. -87.33 < x <= 88.02); below, 0; above,
+// saturates at 2^127 (never Inf).
 float rt_exp2(float x);
 float rt_exp(float x);
-// log2(x) for x > 0 (x <= 0 returns -126, the smallest normal exponent).
+// log2(x) for normal x > 0: |error| <= 2e-7 max(1, |log2 x|) (absolute near
+// x = 1, relative elsewhere). Zero, negative, denormal or NaN x returns -126.
 float rt_log2(float x);
-// x^y for x >= 0; pow(0, y > 0) = 0. Used by Phong's (V.R)^h.
+// x^y for x >= 0; pow(0, y > 0) = 0. Used by Phong's (V.R)^h. For x > 0 and
+// z = y log2(x) in (-126, 127]: relative error <= 4e-7 (1 + |z|), the error
+// of log2 amplified by y.
 float rt_pow(float x, float y);
 // acos(x) for x in [-1, 1] (clamped); absolute error <= 2e-7 rad.
 float rt_acos(float x);

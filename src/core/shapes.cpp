@@ -89,6 +89,17 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return accept(t, tMin, s.a, ray, hit);  // t may be +-Inf for tiny denom: rejected by hit.t
 }
 
+// Where a cap meets the side, the two pieces overlap by `rim` = kRimRel times
+// the magnitudes in the computation (|org - base|, |base|, t, h, radii),
+// since rounding errors are relative to those: the side takes
+// y in [-rim, h + rim], a cap takes |p_perp| <= rc + rim. Without it, rounding
+// put a ray aimed at a rim outside both pieces: 10-15% of such rays passed
+// through the closed solid (tests/test_shapes.cpp, *CapRimNoCrack). Cracks
+// show at 2^-24 and vanish from 2^-23 on; 2^-20 keeps an 8x margin and stays
+// 256x below kSpawnRel, so a ray spawned off a cap does not meet the side's
+// overlap.
+constexpr float kRimRel = 1.0f / 1048576;
+
 // Finite cylinder / cone frustum. In the frame of the axis, with
 // v = perpendicular part of (org - base), u = perpendicular part of dir,
 // y(t) = y0 + t dy the axial coordinate and r(y) = r0 + k y (k = (r1-r0)/h):
@@ -97,9 +108,17 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 //   A = u.u - k^2 dy^2,  B = u.v - k dy rk,  C = v.v - rk^2,  rk = r0 + k y0.
 // Roots by q = -(B + sign(B) sqrt(B^2 - AC)), t = q/A and C/q, which stays
 // exact when A -> 0 (ray parallel to a cone's side or to a cylinder's axis).
+// The quadratic is solved from the ray's point nearest the base centre,
+// t = tc (roots tr, t = tc + tr): its coefficients then have the size of the
+// shape, not of the distance to it, so B^2 - AC keeps its digits (the
+// remedy Haines et al. apply to spheres). Solved from the ray's origin, a
+// cylinder of radius 1 at 1e6 units, or of radius 1e-4 at 1 unit, lost all
+// of them (tests/test_shapes.cpp, Cylinder.FarAwayAndTiny).
 bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   Vec3 axis = s.b;
-  Vec3 oc = ray.org - s.a;
+  Vec3 oc0 = ray.org - s.a;
+  float tc = -dot(oc0, ray.dir);
+  Vec3 oc = oc0 + ray.dir * tc;
   float y0 = dot(oc, axis), dy = dot(ray.dir, axis);
   Vec3 v = oc - axis * y0, u = ray.dir - axis * dy;
   float k = (s.r1 - s.r0) / s.h;
@@ -108,18 +127,20 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float B = dot(u, v) - k * dy * rk;
   float C = dot(v, v) - rk * rk;
   bool found = false;
+  float scale = max_abs(oc0) + max_abs(s.a) + s.h + s.r0 + s.r1;
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
     float roots[2] = {A != 0 ? q / A : kHuge, q != 0 ? C / q : kHuge};
-    for (float t : roots) {
+    for (float tr : roots) {
+      float t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
-      float y = y0 + t * dy;
-      if (y < 0 || y > s.h) continue;
+      float y = y0 + tr * dy, rim = kRimRel * (scale + rt_abs(tr));
+      if (y < -rim || y > s.h + rim) continue;
       // Outward normal: gradient of |p_perp|^2 - r(y)^2, i.e. p_perp - k r(y) axis.
       // At a cone's apex p_perp = 0 and r = 0: the gradient vanishes, so the
       // fallback is the axis direction (the apex's cap side).
-      Vec3 pPerp = v + u * t;
+      Vec3 pPerp = v + u * tr;
       Vec3 n = normalize(pPerp - axis * (k * (s.r0 + k * y)), axis);
       found |= accept(t, tMin, n, ray, hit);
     }
@@ -129,10 +150,11 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     for (int cap = 0; cap < 2; ++cap) {
       if (!(s.caps & (cap ? kCapTop : kCapBase))) continue;
       float yc = cap ? s.h : 0.0f, rc = cap ? s.r1 : s.r0;
-      float t = (yc - y0) / dy;
+      float tr = (yc - y0) / dy, t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
-      Vec3 pPerp = v + u * t;
-      if (dot(pPerp, pPerp) > rc * rc) continue;
+      Vec3 pPerp = v + u * tr;
+      float rr = rc + kRimRel * (scale + rt_abs(tr));
+      if (dot(pPerp, pPerp) > rr * rr) continue;
       found |= accept(t, tMin, cap ? axis : -axis, ray, hit);
     }
   }

@@ -28,10 +28,10 @@ constexpr int kW = 800, kH = 600;
 
 struct FrameStats {
   long nonFinite = 0, negative = 0, packMismatch = 0;
-  int distinct = 0;     // distinct packed colours
-  double lumaStd = 0;   // standard deviation of the luma, 0..1
-  double maxChannel = 0;  // brightest channel, 0..255
-  bool floatVaries = false;  // the float colours are not all equal
+  int distinct = 0;         // distinct packed colours
+  double lumaStd = 0;       // standard deviation of the luma, 0..1
+  double maxChannel = 0;    // brightest channel, 0..255
+  bool floatVaries = false; // the float colours are not all equal
 };
 
 FrameStats check_frame(double t) {
@@ -72,9 +72,11 @@ FrameStats check_frame(double t) {
     if (v) varies = true;
   };
   std::vector<std::thread> pool;
-  for (int i = 1; i < default_threads(); ++i) pool.emplace_back(worker);
+  for (int i = 1; i < default_threads(); ++i)
+    pool.emplace_back(worker);
   worker();
-  for (auto& th : pool) th.join();
+  for (auto& th : pool)
+    th.join();
 
   FrameStats st;
   st.nonFinite = nonFinite;
@@ -131,7 +133,7 @@ TEST(Frames, SeamsFadeThroughBlackCleanly) {
     expect_clean(st, t);
     EXPECT_LE(st.maxChannel, 2.0) << "t = " << t << ": not faded at the seam";
     if (t == 31.99 || t == 63.99) {
-      EXPECT_TRUE(st.floatVaries) << t;  // a scene, scaled down
+      EXPECT_TRUE(st.floatVaries) << t; // a scene, scaled down
     }
   }
   // One second inside each scene the fade is over and the frame has content.
@@ -161,10 +163,10 @@ TEST(Timeline, WrapsNegativeHugeAndNonFiniteTimes) {
   EXPECT_EQ(timeline_wrap(-0.5), 63.5f);
   EXPECT_EQ(timeline_wrap(-64.0), 0.0f);
   EXPECT_EQ(timeline_wrap(-64.25), 63.75f);
-  EXPECT_EQ(timeline_wrap(-1e-300), 0.0f);  // rounds to 64, which is 0 again
-  EXPECT_EQ(timeline_wrap(1e9), 0.0f);      // 64 * 15625000
+  EXPECT_EQ(timeline_wrap(-1e-300), 0.0f); // rounds to 64, which is 0 again
+  EXPECT_EQ(timeline_wrap(1e9), 0.0f);     // 64 * 15625000
   EXPECT_EQ(timeline_wrap(1e9 + 0.5), 0.5f);
-  EXPECT_EQ(timeline_wrap(1e15 + 3.25), 3.25f);  // 1e15 = 64 * 15625000000000
+  EXPECT_EQ(timeline_wrap(1e15 + 3.25), 3.25f); // 1e15 = 64 * 15625000000000
   EXPECT_EQ(timeline_wrap(-1e15 + 3.25), 3.25f);
   // Beyond 2^52 a double holds no fraction of a second: 0, documented.
   EXPECT_EQ(timeline_wrap(4503599627370496.0), 0.0f);
@@ -188,9 +190,9 @@ TEST(Timeline, WrapMatchesFmodAndStaysInRange) {
     double ref = std::fmod(t, 64.0);
     if (ref < 0) ref += 64;
     double err = std::fabs(double(w) - ref);
-    err = std::min(err, 64 - err);  // 63.9999999 and 0 are the same instant
+    err = std::min(err, 64 - err); // 63.9999999 and 0 are the same instant
     worst = std::max(worst, err);
-    ASSERT_LE(err, 4e-6) << t;  // float's half-spacing near 64 is 3.8e-6
+    ASSERT_LE(err, 4e-6) << t; // float's half-spacing near 64 is 3.8e-6
   }
   std::printf("[ measured ] timeline_wrap vs fmod over 200,000 times in +-1e7 s: max %.3g s\n",
               worst);
@@ -206,7 +208,7 @@ TEST(Timeline, ScenesSwitchAtTheSeamsAndLoopExactly) {
   EXPECT_FALSE(timeline_state(32 + kBlocksViewStart - 0.01).showBlocks);
   EXPECT_TRUE(timeline_state(32 + kBlocksViewStart).showBlocks);
   EXPECT_FALSE(timeline_state(32 + kBlocksViewStart + kBlocksViewSeconds).showBlocks);
-  EXPECT_FALSE(timeline_state(kBlocksViewStart + 1).showBlocks);  // scene 1: never
+  EXPECT_FALSE(timeline_state(kBlocksViewStart + 1).showBlocks); // scene 1: never
   // A time and the same time any number of loops later give the same scene.
   for (double t : {0.25, 7.5, 31.75, 40.125, 63.5}) {
     Scene a, b;
@@ -225,7 +227,9 @@ TEST(Timeline, ScenesSwitchAtTheSeamsAndLoopExactly) {
 TEST(Timeline, ScenesAreFiniteAtEveryFrameTime) {
   // Every scene parameter finite over the loop at 60 fps (3840 times): a NaN
   // in a position or radius would reach the pixels only at some angles.
-  auto finite3 = [](Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finite3 = [](Vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   for (int f = 0; f < 3840; ++f) {
     double t = f / 60.0;
     Scene s;
@@ -242,4 +246,4 @@ TEST(Timeline, ScenesAreFiniteAtEveryFrameTime) {
   }
 }
 
-}  // namespace
+} // namespace

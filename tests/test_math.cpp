@@ -22,7 +22,7 @@ double float_ulp(double r) {
   r = std::fabs(r);
   if (r < 1.17549435e-38) return std::ldexp(1.0, -149);
   int e;
-  std::frexp(r, &e);  // r = m 2^e, m in [0.5, 1)
+  std::frexp(r, &e); // r = m 2^e, m in [0.5, 1)
   return std::ldexp(1.0, e - 24);
 }
 
@@ -49,14 +49,16 @@ void report(const char* name, const char* unit, const MaxErr& m) {
 }
 
 // n evenly spaced points over [lo, hi], both ends included.
-template <class F>
-void sweep(double lo, double hi, long n, F f) {
-  for (long i = 0; i <= n; ++i) f(lo + (hi - lo) * double(i) / double(n));
+template <class F> void sweep(double lo, double hi, long n, F f) {
+  for (long i = 0; i <= n; ++i)
+    f(lo + (hi - lo) * double(i) / double(n));
 }
 
 float next_up(float x, int steps) {
-  for (int i = 0; i < steps; ++i) x = std::nextafter(x, std::numeric_limits<float>::infinity());
-  for (int i = 0; i > steps; --i) x = std::nextafter(x, -std::numeric_limits<float>::infinity());
+  for (int i = 0; i < steps; ++i)
+    x = std::nextafter(x, std::numeric_limits<float>::infinity());
+  for (int i = 0; i > steps; --i)
+    x = std::nextafter(x, -std::numeric_limits<float>::infinity());
   return x;
 }
 
@@ -83,7 +85,8 @@ TEST(Math, SinCosWithinOneUlpUpTo1e5) {
        ++k) {
     float x = float(double(k) * 1.5707963267948966192);
     if (std::fabs(x) > kSinCosRange) continue;
-    for (int d = -3; d <= 3; ++d) sincos_sample(next_up(x, d), s, c);
+    for (int d = -3; d <= 3; ++d)
+      sincos_sample(next_up(x, d), s, c);
   }
   // Seeded random samples, uniform in x and uniform in log|x|.
   std::mt19937 rng(12345);
@@ -135,7 +138,8 @@ TEST(Math, Exp2RelativeErrorOverNormalRange) {
     }
   std::mt19937 rng(2024);
   std::uniform_real_distribution<float> uni(-126.0f, 127.0f);
-  for (int i = 0; i < 1000000; ++i) sample(uni(rng));
+  for (int i = 0; i < 1000000; ++i)
+    sample(uni(rng));
   report("rt_exp2", "relative", m);
   EXPECT_LE(m.err, kExpRel) << "at x = " << m.at;
 }
@@ -152,7 +156,8 @@ TEST(Math, ExpRelativeErrorOverNormalRange) {
   sweep(-1, 1, 1000000, [&](double x) { sample(float(x)); });
   std::mt19937 rng(2025);
   std::uniform_real_distribution<float> uni{float(kLo), float(kHi)};
-  for (int i = 0; i < 1000000; ++i) sample(uni(rng));
+  for (int i = 0; i < 1000000; ++i)
+    sample(uni(rng));
   report("rt_exp", "relative", m);
   EXPECT_LE(m.err, kExpRel) << "at x = " << m.at;
 }
@@ -162,7 +167,7 @@ TEST(Math, ExpEdgesNeverInfOrNaN) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(rt_exp2(0.0f), 1.0f);
   EXPECT_EQ(rt_exp(0.0f), 1.0f);
-  EXPECT_EQ(rt_exp2(-126.0f), 0.0f);  // underflow returns 0
+  EXPECT_EQ(rt_exp2(-126.0f), 0.0f); // underflow returns 0
   EXPECT_EQ(rt_exp2(-1000.0f), 0.0f);
   EXPECT_EQ(rt_exp2(-inf), 0.0f);
   EXPECT_EQ(rt_exp2(nan), 0.0f);
@@ -173,7 +178,8 @@ TEST(Math, ExpEdgesNeverInfOrNaN) {
   EXPECT_EQ(rt_exp2(inf), std::ldexp(1.0f, 127));
   EXPECT_EQ(rt_exp(1000.0f), std::ldexp(1.0f, 127));
   // Integers are exact powers of two.
-  for (int k = -125; k <= 127; ++k) ASSERT_EQ(rt_exp2(float(k)), std::ldexp(1.0f, k)) << k;
+  for (int k = -125; k <= 127; ++k)
+    ASSERT_EQ(rt_exp2(float(k)), std::ldexp(1.0f, k)) << k;
 }
 
 // ---------------------------------------------------------------- log2
@@ -189,7 +195,8 @@ TEST(Math, Log2ErrorOverAllNormalFloats) {
   };
   // Every binade, 16384 mantissas each (4.2M samples).
   for (int e = -126; e <= 127; ++e)
-    for (int i = 0; i < 16384; ++i) sample(std::ldexp(1.0f + float(i) / 16384.0f, e));
+    for (int i = 0; i < 16384; ++i)
+      sample(std::ldexp(1.0f + float(i) / 16384.0f, e));
   // Next to 1 (where log2 -> 0) and next to sqrt(2) (the mantissa fold).
   for (float c : {1.0f, 1.41421356f}) {
     float up = c, down = c;
@@ -201,18 +208,20 @@ TEST(Math, Log2ErrorOverAllNormalFloats) {
   std::mt19937 rng(99);
   std::uniform_real_distribution<float> mant(1.0f, 2.0f);
   std::uniform_int_distribution<int> ex(-126, 127);
-  for (int i = 0; i < 1000000; ++i) sample(std::ldexp(mant(rng), ex(rng)));
+  for (int i = 0; i < 1000000; ++i)
+    sample(std::ldexp(mant(rng), ex(rng)));
   report("rt_log2", "abs/max(1,|log2 x|)", m);
   EXPECT_LE(m.err, kLog2Err) << "at x = " << m.at;
 }
 
 TEST(Math, Log2EdgesAndExactPowers) {
   EXPECT_EQ(rt_log2(1.0f), 0.0f);
-  for (int k = -126; k <= 127; ++k) ASSERT_EQ(rt_log2(std::ldexp(1.0f, k)), float(k)) << k;
+  for (int k = -126; k <= 127; ++k)
+    ASSERT_EQ(rt_log2(std::ldexp(1.0f, k)), float(k)) << k;
   // Outside the domain: the documented -126, never NaN or -Inf.
   EXPECT_EQ(rt_log2(0.0f), -126.0f);
   EXPECT_EQ(rt_log2(-1.0f), -126.0f);
-  EXPECT_EQ(rt_log2(1e-40f), -126.0f);  // denormal
+  EXPECT_EQ(rt_log2(1e-40f), -126.0f); // denormal
   EXPECT_EQ(rt_log2(std::numeric_limits<float>::quiet_NaN()), -126.0f);
 }
 
@@ -223,7 +232,7 @@ constexpr double kPowRel = 4e-7;
 
 TEST(Math, PowRelativeErrorScaledByExponent) {
   MaxErr m;
-  double worstPlain = 0;  // plain relative error, for the record
+  double worstPlain = 0; // plain relative error, for the record
   auto sample = [&](float x, float y) {
     double z = double(y) * std::log2(double(x));
     if (!(z > -126 && z <= 127)) return;
@@ -235,13 +244,14 @@ TEST(Math, PowRelativeErrorScaledByExponent) {
   // Phong's use: x = V.R in (0, 1], y = shininess in [1, 256]; also x > 1
   // and fractional y.
   for (int i = 1; i <= 2000; ++i)
-    for (int j = 0; j <= 1000; ++j) sample(float(i) / 2000.0f * 4.0f, float(j) * 0.256f);
+    for (int j = 0; j <= 1000; ++j)
+      sample(float(i) / 2000.0f * 4.0f, float(j) * 0.256f);
   std::mt19937 rng(4242);
   std::uniform_real_distribution<float> ux(0.0f, 1.0f), uy(0.0f, 256.0f);
   std::uniform_int_distribution<int> near1(1, 24);
   for (int i = 0; i < 1000000; ++i) {
     float x = ux(rng);
-    if (i % 4 == 0) x = 1.0f - std::ldexp(ux(rng), -near1(rng));  // highlights: V.R -> 1
+    if (i % 4 == 0) x = 1.0f - std::ldexp(ux(rng), -near1(rng)); // highlights: V.R -> 1
     sample(x, uy(rng));
   }
   report("rt_pow", "relative/(1+|y log2 x|)", m);
@@ -256,9 +266,10 @@ TEST(Math, PowEdges) {
   EXPECT_EQ(rt_pow(0.0f, 2.0f), 0.0f);
   EXPECT_EQ(rt_pow(0.0f, 0.0f), 1.0f);
   EXPECT_EQ(rt_pow(0.5f, 0.0f), 1.0f);
-  EXPECT_EQ(rt_pow(-0.5f, 3.0f), 0.0f);  // x < 0 is outside the domain: 0, not NaN
-  for (float y : {1.0f, 7.5f, 140.0f, 1000.0f}) EXPECT_EQ(rt_pow(1.0f, y), 1.0f) << y;
-  EXPECT_EQ(rt_pow(1e-30f, 200.0f), 0.0f);  // underflow -> 0, never NaN
+  EXPECT_EQ(rt_pow(-0.5f, 3.0f), 0.0f); // x < 0 is outside the domain: 0, not NaN
+  for (float y : {1.0f, 7.5f, 140.0f, 1000.0f})
+    EXPECT_EQ(rt_pow(1.0f, y), 1.0f) << y;
+  EXPECT_EQ(rt_pow(1e-30f, 200.0f), 0.0f); // underflow -> 0, never NaN
   EXPECT_TRUE(std::isfinite(rt_pow(3e38f, 100.0f)));
 }
 
@@ -282,7 +293,8 @@ TEST(Math, AcosAbsoluteErrorOverDomain) {
   }
   std::mt19937 rng(31337);
   std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
-  for (int i = 0; i < 1000000; ++i) sample(uni(rng));
+  for (int i = 0; i < 1000000; ++i)
+    sample(uni(rng));
   report("rt_acos", "rad", m);
   EXPECT_LE(m.err, kAcosAbs) << "at x = " << m.at;
 }
@@ -310,13 +322,14 @@ TEST(Math, SqrtCorrectlyRounded) {
       if (std::isfinite(x)) sample(x);
     }
   std::mt19937 rng(5);
-  std::uniform_int_distribution<u32> bits(0, 0x7f7fffffu);  // every finite float >= 0
-  for (int i = 0; i < 1000000; ++i) sample(rt_from_bits(bits(rng)));
+  std::uniform_int_distribution<u32> bits(0, 0x7f7fffffu); // every finite float >= 0
+  for (int i = 0; i < 1000000; ++i)
+    sample(rt_from_bits(bits(rng)));
   report("rt_sqrt", "ulp", m);
   EXPECT_LE(m.err, 0.5) << "at x = " << m.at;
   EXPECT_EQ(rt_sqrt(0.0f), 0.0f);
   EXPECT_EQ(rt_sqrt(1.0f), 1.0f);
-  EXPECT_TRUE(std::isnan(rt_sqrt(-1.0f)));  // documented: callers clamp
+  EXPECT_TRUE(std::isnan(rt_sqrt(-1.0f))); // documented: callers clamp
 }
 
 // ---------------------------------------------------------------- vectors
@@ -335,10 +348,10 @@ TEST(Math, NormalizeIsUnitAndDegenerateFallsBack) {
     worst = std::max(worst, std::fabs(len - 1));
   }
   std::printf("[ measured ] normalize max | |n| - 1 | %.3g\n", worst);
-  EXPECT_LE(worst, 4e-7);  // a few float roundings of a unit vector
+  EXPECT_LE(worst, 4e-7); // a few float roundings of a unit vector
   Vec3 fb = normalize(v3(0, 0, 0), v3(0, 0, 1));
   EXPECT_EQ(fb.z, 1.0f);
-  Vec3 den = normalize(v3(1e-20f, 0, 0));  // length^2 1e-40 is denormal: fallback
+  Vec3 den = normalize(v3(1e-20f, 0, 0)); // length^2 1e-40 is denormal: fallback
   EXPECT_EQ(den.y, 1.0f);
   Vec3 nanv = normalize(v3(std::numeric_limits<float>::quiet_NaN(), 0, 0));
   EXPECT_EQ(nanv.y, 1.0f);
@@ -355,4 +368,4 @@ TEST(Math, RoundFloorFinite) {
   EXPECT_FALSE(rt_finite(std::numeric_limits<float>::quiet_NaN()));
 }
 
-}  // namespace
+} // namespace

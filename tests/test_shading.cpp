@@ -45,8 +45,8 @@ Vec3 shoot(const Scene& s, Vec3 org, Vec3 dir, RayStats* stats = nullptr) {
 }
 
 bool finite_nonneg(Vec3 c) {
-  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && c.x >= 0 &&
-         c.y >= 0 && c.z >= 0;
+  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && c.x >= 0 && c.y >= 0 &&
+         c.z >= 0;
 }
 
 // Unit vector at polar angle theta from +y, azimuth phi in the xz-plane.
@@ -67,7 +67,7 @@ D3 unit(D3 a) {
 // The view and light angles swept, in degrees from the normal: including
 // grazing (N.V, N.L -> 0) and a light exactly at and just below the horizon.
 const double kAngles[] = {0, 10, 30, 45, 60, 75, 85, 89, 89.9, 89.99, 89.999, 90, 90.01};
-const double kAzimuths[] = {0, 45, 90, 135, 180};  // 180 with both grazing: V.H -> 0
+const double kAzimuths[] = {0, 45, 90, 135, 180}; // 180 with both grazing: V.H -> 0
 
 // A flat floor at y = 0, seen at the origin from direction V (at distance
 // 10), lit from direction L (a light 1000 away). Returns the traced colour
@@ -77,14 +77,14 @@ struct FloorShot {
   D3 V, L;
 };
 FloorShot shade_floor(const Material& m, ShadingModel model, double thetaV, double thetaL,
-                  double phi) {
+                      double phi) {
   Scene s = empty_scene(model);
   scene_add(s, make_plane(v3(0, 1, 0), 0), m);
   Vec3 L = polar(thetaL * kDeg, phi * kDeg), V = polar(thetaV * kDeg, 0);
   Vec3 lightPos = L * 1000.0f;
   scene_add_light(s, lightPos, v3(1));
   FloorShot out;
-  Vec3 dir = normalize(-V);  // exactly the direction trace() gets
+  Vec3 dir = normalize(-V); // exactly the direction trace() gets
   out.color = shoot(s, V * 10.0f, dir);
   out.V = D3{-double(dir.x), -double(dir.y), -double(dir.z)};
   // The tracer aims its light direction from the hit point lifted off the
@@ -97,9 +97,9 @@ FloorShot shade_floor(const Material& m, ShadingModel model, double thetaV, doub
 
 // Phong as SPEC states it, in double: colour r_D (N.L) + r_S max(0, V.R)^h.
 D3 phong_ref(const Material& m, D3 V, D3 L) {
-  double NdotL = L.y;  // N = +y
+  double NdotL = L.y; // N = +y
   if (NdotL <= 0) return {0, 0, 0};
-  D3 R{-L.x, 2 * NdotL - L.y, -L.z};  // 2 (N.L) N - L
+  D3 R{-L.x, 2 * NdotL - L.y, -L.z}; // 2 (N.L) N - L
   double spec = m.specular * std::pow(std::max(0.0, dot(V, R)), m.shininess);
   return {m.color.x * m.diffuse * NdotL + spec, m.color.y * m.diffuse * NdotL + spec,
           m.color.z * m.diffuse * NdotL + spec};
@@ -133,7 +133,7 @@ void sweep_model(ShadingModel model, const std::vector<Material>& mats, const ch
   double worst = 0, maxSeen = 0;
   for (const Material& m : mats)
     for (double tv : kAngles) {
-      if (tv >= 90) continue;  // a view ray along the floor never meets it
+      if (tv >= 90) continue; // a view ray along the floor never meets it
       for (double tl : kAngles)
         for (double phi : kAzimuths) {
           FloorShot r = shade_floor(m, model, tv, tl, phi);
@@ -149,14 +149,13 @@ void sweep_model(ShadingModel model, const std::vector<Material>& mats, const ch
           // Phong: V.R's ~1e-7 error times the power h. Cook-Torrance: acos
           // near 1 turns N.H's half-ulp into up to 3.5e-4 rad of alpha, which
           // D = exp(-(alpha/m)^2) feels as (3.5e-4 / m)^2 at the peak.
-          double tol = 1e-4 + (model == kPhong ? 2e-7 * m.shininess
-                                               : 2 * std::pow(3.5e-4 / m.roughness, 2));
+          double tol =
+              1e-4 + (model == kPhong ? 2e-7 * m.shininess : 2 * std::pow(3.5e-4 / m.roughness, 2));
           for (int c = 0; c < 3; ++c) {
             double err = std::fabs(got[c] - want[c]) / (1e-3 + std::fabs(want[c]));
             worst = std::max(worst, err);
-            EXPECT_LE(err, tol) << name << " view " << tv << " light " << tl << " azimuth "
-                                << phi << " channel " << c << ": " << got[c] << " vs "
-                                << want[c];
+            EXPECT_LE(err, tol) << name << " view " << tv << " light " << tl << " azimuth " << phi
+                                << " channel " << c << ": " << got[c] << " vs " << want[c];
           }
         }
     }
@@ -229,7 +228,7 @@ TEST(Shading, MissShowsBackgroundAndMirrorShowsItWeighted) {
   s.background = v3(0.2f, 0.4f, 0.6f);
   EXPECT_EQ(shoot(s, v3(0, 0, 0), v3(0, 0, 1)).y, 0.4f);
   scene_add(s, make_plane(v3(0, 1, 0), 0), make_mat(v3(1), 0, 0, 1, 0.5f, 0, 1));
-  Vec3 c = shoot(s, v3(0, 5, 0), v3(1, -1, 0));  // reflects up into the background
+  Vec3 c = shoot(s, v3(0, 5, 0), v3(1, -1, 0)); // reflects up into the background
   EXPECT_FLOAT_EQ(c.x, 0.1f);
   EXPECT_FLOAT_EQ(c.y, 0.2f);
   EXPECT_FLOAT_EQ(c.z, 0.3f);
@@ -242,7 +241,7 @@ TEST(Shading, RecursionStopsAtMaxDepth) {
     s.maxDepth = depth;
     Material mirror = make_mat(v3(1), 0, 0, 1, 0.9f, 0, 1);
     scene_add(s, make_plane(v3(0, 1, 0), 0), mirror);
-    scene_add(s, make_plane(v3(0, -1, 0), -1), mirror);  // y = 1
+    scene_add(s, make_plane(v3(0, -1, 0), -1), mirror); // y = 1
     RayStats st;
     Vec3 c = shoot(s, v3(0, 0.5f, 0), v3(0.1f, 1, 0), &st);
     EXPECT_TRUE(finite_nonneg(c));
@@ -267,12 +266,12 @@ double measured_sin_entering(double thetaI, float n) {
   scene_add(s, make_plane(v3(0, 1, 0), float(-depth)), diffuse_white());
   scene_add_light(s, v3(0, float(-depth + h), 0), v3(1));
   Vec3 dir = v3(float(std::sin(thetaI)), float(-std::cos(thetaI)), 0);
-  Vec3 c = shoot(s, dir * -5.0f, dir);  // through the origin
+  Vec3 c = shoot(s, dir * -5.0f, dir); // through the origin
   // The refracted ray leaves from (0, -off0, 0) (spawn_origin at the origin);
   // the target point is lifted by its own offset before N.L is taken.
   double off0 = spawn_offset(v3(0, 0, 0));
   double rho = 0;
-  for (int it = 0; it < 3; ++it) {  // the target's offset depends on where it is
+  for (int it = 0; it < 3; ++it) { // the target's offset depends on where it is
     double offT = spawn_offset(v3(float(rho), float(-depth), 0));
     rho = rho_from_intensity(c.x, h - offT);
   }
@@ -285,7 +284,7 @@ TEST(Refraction, EnteringGlassObeysSnell) {
   double worst = 0;
   for (double deg = 5; deg <= 85; deg += 5) {
     double th = deg * kDeg, sinT = measured_sin_entering(th, n);
-    double err = std::fabs(std::sin(th) - n * sinT);  // Snell: sin(i) = n sin(t)
+    double err = std::fabs(std::sin(th) - n * sinT); // Snell: sin(i) = n sin(t)
     worst = std::max(worst, err);
     EXPECT_LE(err, 2e-5) << deg << " deg";
   }
@@ -312,7 +311,7 @@ Leaving leaving_glass(double thetaI, float n) {
   scene_add_light(s, v3(0, float(-down + h), 0), v3(1, 0, 0));
   Vec3 dir = v3(float(std::sin(thetaI)), float(std::cos(thetaI)), 0);
   Leaving out;
-  out.color = shoot(s, dir * -0.5f, dir);  // hits the glass surface at the origin
+  out.color = shoot(s, dir * -0.5f, dir); // hits the glass surface at the origin
   double off0 = spawn_offset(v3(0, 0, 0));
   bool refracted = out.color.y > 0;
   double I = refracted ? out.color.y : out.color.x, dist = refracted ? up : down;
@@ -328,12 +327,12 @@ Leaving leaving_glass(double thetaI, float n) {
 
 TEST(Refraction, LeavingGlassObeysSnellBelowCriticalAngle) {
   const float n = 1.5f;
-  double critical = std::asin(1.0 / n) / kDeg, worst = 0;  // 41.81 deg
+  double critical = std::asin(1.0 / n) / kDeg, worst = 0; // 41.81 deg
   for (double deg = 5; deg < critical; deg += 4) {
     Leaving r = leaving_glass(deg * kDeg, n);
-    EXPECT_EQ(r.color.x, 0.0f) << deg;  // nothing reflected back down
+    EXPECT_EQ(r.color.x, 0.0f) << deg; // nothing reflected back down
     ASSERT_GT(r.color.y, 0.0f) << deg;
-    double err = std::fabs(n * std::sin(deg * kDeg) - r.sinOut);  // n sin(i) = sin(t)
+    double err = std::fabs(n * std::sin(deg * kDeg) - r.sinOut); // n sin(i) = sin(t)
     worst = std::max(worst, err);
     EXPECT_LE(err, 2e-5) << deg << " deg";
   }
@@ -349,8 +348,8 @@ TEST(Refraction, TotalInternalReflectionAboveCriticalAngle) {
   double critical = std::asin(1.0 / n) / kDeg, worst = 0;
   for (double deg : {critical + 0.2, 45.0, 50.0, 60.0, 70.0, 80.0, 85.0}) {
     Leaving r = leaving_glass(deg * kDeg, n);
-    EXPECT_EQ(r.color.y, 0.0f) << deg;  // nothing got out
-    ASSERT_GT(r.color.x, 0.0f) << deg;  // reflected down onto the red target
+    EXPECT_EQ(r.color.y, 0.0f) << deg; // nothing got out
+    ASSERT_GT(r.color.x, 0.0f) << deg; // reflected down onto the red target
     // Mirror reflection: the angle out equals the angle in.
     double err = std::fabs(std::sin(deg * kDeg) - r.sinOut);
     worst = std::max(worst, err);
@@ -389,12 +388,12 @@ TEST(Refraction, ThroughGlassSphereDeviatesBySnell) {
     // Reference path.
     D3 d{0, 0, 1}, p1{b, 0, -std::sqrt(1 - b * b)};
     D3 t1 = refract_ref(d, p1, 1 / double(n));
-    D3 o1 = add(p1, p1, -spawn_offset(v3(float(p1.x), 0, float(p1.z))));  // pushed inside
+    D3 o1 = add(p1, p1, -spawn_offset(v3(float(p1.x), 0, float(p1.z)))); // pushed inside
     double bq = dot(o1, t1), cq = dot(o1, o1) - 1;
-    D3 p2 = add(o1, t1, -bq + std::sqrt(bq * bq - cq));  // the far side
+    D3 p2 = add(o1, t1, -bq + std::sqrt(bq * bq - cq)); // the far side
     D3 inward{-p2.x, -p2.y, -p2.z};
     D3 t2 = refract_ref(t1, inward, n);
-    D3 o2 = add(p2, p2, spawn_offset(v3(float(p2.x), 0, float(p2.z))));  // pushed outside
+    D3 o2 = add(p2, p2, spawn_offset(v3(float(p2.x), 0, float(p2.z)))); // pushed outside
     double landX = o2.x + t2.x * (Z - o2.z) / t2.z;
     double rho = rho_from_intensity(c.x, h - spawn_offset(v3(float(landX), 0, float(Z))));
     double err = std::fabs((xL - rho) - landX);
@@ -427,12 +426,12 @@ Vec3 floor_under(const std::vector<std::pair<Shape, Material>>& blockers, bool b
     }
   }
   scene_add_light(s, v3(0, 10, 0), v3(1));
-  return shoot(s, v3(5, 1, 0), v3(-5, -1, 0));  // from the side, under the blockers
+  return shoot(s, v3(5, 1, 0), v3(-5, -1, 0)); // from the side, under the blockers
 }
 
 TEST(Shadows, TransparentObjectTintsInsteadOfBlocking) {
   Vec3 lit = floor_under({});
-  EXPECT_NEAR(lit.x, 1.0f, 1e-6f);  // N.L = 1, white, diffuse 1
+  EXPECT_NEAR(lit.x, 1.0f, 1e-6f); // N.L = 1, white, diffuse 1
   Material tinted = make_mat(v3(1, 0.5f, 0.25f), 0.1f, 0.5f, 20, 0.1f, 0.6f, 1.5f);
   Vec3 c = floor_under({{make_sphere(v3(0, 5, 0), 1), tinted}});
   // Attenuated by transmit * colour = (0.6, 0.3, 0.15), not blocked.
@@ -440,12 +439,14 @@ TEST(Shadows, TransparentObjectTintsInsteadOfBlocking) {
   EXPECT_NEAR(c.y / lit.y, 0.3, 1e-5);
   EXPECT_NEAR(c.z / lit.z, 0.15, 1e-5);
   // Two of them: the product.
-  Vec3 two = floor_under({{make_sphere(v3(0, 4, 0), 1), tinted}, {make_sphere(v3(0, 7, 0), 1), tinted}});
+  Vec3 two =
+      floor_under({{make_sphere(v3(0, 4, 0), 1), tinted}, {make_sphere(v3(0, 7, 0), 1), tinted}});
   EXPECT_NEAR(two.x / lit.x, 0.36, 1e-5);
   EXPECT_NEAR(two.y / lit.y, 0.09, 1e-5);
   EXPECT_NEAR(two.z / lit.z, 0.0225, 1e-5);
   // Through a glass cylinder (the scene-2 kind), crossed once.
-  Vec3 cyl = floor_under({{make_cylinder(v3(0, 4, 0), v3(0, 1, 0), 1, 2, kCapBase | kCapTop), tinted}});
+  Vec3 cyl =
+      floor_under({{make_cylinder(v3(0, 4, 0), v3(0, 1, 0), 1, 2, kCapBase | kCapTop), tinted}});
   EXPECT_NEAR(cyl.y / lit.y, 0.3, 1e-5);
 }
 
@@ -462,7 +463,8 @@ TEST(Shadows, OpaqueObjectBlocksFully) {
   }
   // An opaque object next to a transparent one still blocks.
   Material tinted = make_mat(v3(1, 0.5f, 0.25f), 0, 0, 1, 0, 0.6f, 1.5f);
-  Vec3 both = floor_under({{make_sphere(v3(0, 3, 0), 1), tinted}, {make_sphere(v3(0, 7, 0), 1), opaque}});
+  Vec3 both =
+      floor_under({{make_sphere(v3(0, 3, 0), 1), tinted}, {make_sphere(v3(0, 7, 0), 1), opaque}});
   EXPECT_EQ(both.x, 0.0f);
 }
 
@@ -477,9 +479,9 @@ TEST(Shadows, BackgroundObjectsCastNoShadow) {
   // And a background plane between a lit sphere and its light.
   Scene s = empty_scene(kPhong);
   scene_add(s, make_sphere(v3(0, 0, 0), 1), diffuse_white());
-  scene_add_background(s, make_plane(v3(0, -1, 0), -5), opaque);  // y = 5, facing down
+  scene_add_background(s, make_plane(v3(0, -1, 0), -5), opaque); // y = 5, facing down
   scene_add_light(s, v3(0, 10, 0), v3(1));
-  Vec3 c = shoot(s, v3(0, 3, 0), v3(0, -1, 0));  // the sphere's top, N.L = 1
+  Vec3 c = shoot(s, v3(0, 3, 0), v3(0, -1, 0)); // the sphere's top, N.L = 1
   EXPECT_NEAR(c.x, 1.0f, 1e-6f);
 }
 
@@ -488,10 +490,10 @@ TEST(Shadows, BackgroundTestedOnlyWhenNoForegroundHit) {
   // the sphere (the contract: background only where no foreground is hit).
   Scene s = empty_scene(kPhong);
   scene_add(s, make_sphere(v3(0, 0, 0), 1), diffuse_white());
-  scene_add_background(s, make_plane(v3(0, 0, -1), 3), diffuse_white());  // z = -3
+  scene_add_background(s, make_plane(v3(0, 0, -1), 3), diffuse_white()); // z = -3
   EXPECT_EQ(first_hit_object(s, Ray{v3(0, 0, -10), v3(0, 0, 1)}), 0);
-  EXPECT_EQ(first_hit_object(s, Ray{v3(5, 0, -10), v3(0, 0, 1)}), 1);  // beside the sphere
+  EXPECT_EQ(first_hit_object(s, Ray{v3(5, 0, -10), v3(0, 0, 1)}), 1); // beside the sphere
   EXPECT_EQ(first_hit_object(s, Ray{v3(5, 0, -10), v3(0, 0, -1)}), -1);
 }
 
-}  // namespace
+} // namespace

@@ -27,7 +27,17 @@
 //     from, or when the crossing of a flat piece or the side lies within
 //     kPerturb * S * kappa of the piece's boundary (see Ref::margin). That
 //     is the near-tangent, near-edge, near-rim, grazing and origin-on-surface
-//     set at the scale of the t tolerance.
+//     set at the scale of the t tolerance. Their hit points must still lie
+//     on the piece's carrier surface (a grazing point may stray past an edge
+//     along the ray, never off the plane or quadric).
+//   * spawned rays (spawn_origin, two per hit): leaving a convex solid or a
+//     flat shape they never hit it again; going into a closed solid they
+//     must start inside it and find the far side where the reference does.
+//     Counted, not checked, for inward rays: hits in the near-degenerate set
+//     (at an edge no single normal moves the origin inside), where the solid
+//     is under 4 offsets thick, and next to a cone's apex (below).
+//   * the spawn-offset sweep repeats the spawn checks with the offset scaled
+//     by 2^-k and prints the smallest scale with no failure at it or above.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,7 +52,7 @@
 
 namespace {
 
-constexpr double kEps = 1.0 / 16777216;  // 2^-24
+constexpr double kEps = 1.0 / 16777216; // 2^-24
 constexpr double kSurfTol = 1.0 / 65536;
 constexpr double kTTol = 1.0 / 65536;
 constexpr double kPerturb = 1.0 / 65536;
@@ -55,7 +65,7 @@ constexpr double kPerturb = 1.0 / 65536;
 // in the property tests.
 constexpr double kApexNear = 1.0 / 256;
 constexpr double kApexTol = 1.0 / 1024;
-constexpr double kUnitTol = 1e-6;  // | |n| - 1 |: normalize() rounds a few times (test_math)
+constexpr double kUnitTol = 1e-6; // | |n| - 1 |: normalize() rounds a few times (test_math)
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
@@ -72,7 +82,9 @@ D3 operator-(D3 a, D3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 D3 operator-(D3 a) { return {-a.x, -a.y, -a.z}; }
 D3 operator*(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 double dot(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 cross(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+D3 cross(D3 a, D3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 double norm(D3 a) { return std::sqrt(dot(a, a)); }
 D3 unit(D3 a) { return a * (1.0 / norm(a)); }
 double maxabs(D3 a) { return std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}); }
@@ -96,14 +108,14 @@ constexpr float kSentinelT = 123.25f;
 Cast cast(const Shape& s, Vec3 org, Vec3 dir, float tMin = 0.0f, float tMax = kHuge) {
   Hit h;
   h.t = tMax;
-  h.normal = v3(-7.0f, 8.0f, -9.0f);  // sentinel: must survive a miss
+  h.normal = v3(-7.0f, 8.0f, -9.0f); // sentinel: must survive a miss
   h.front = true;
   bool ok = intersect(s, Ray{org, dir}, tMin, h);
   return {ok, h};
 }
 bool untouched(const Cast& c, float tMax) {
-  return c.h.t == tMax && c.h.normal.x == -7.0f && c.h.normal.y == 8.0f &&
-         c.h.normal.z == -9.0f && c.h.front;
+  return c.h.t == tMax && c.h.normal.x == -7.0f && c.h.normal.y == 8.0f && c.h.normal.z == -9.0f &&
+         c.h.front;
 }
 // Contract checks every float hit must pass.
 void expect_valid_hit(const Cast& c, Vec3 dir, const char* what) {
@@ -112,7 +124,7 @@ void expect_valid_hit(const Cast& c, Vec3 dir, const char* what) {
   EXPECT_NEAR(flen(c.h.normal), 1.0, kUnitTol) << what;
   EXPECT_LE(dot(c.h.normal, dir), 0.0f) << what;
 }
-Vec3 at(Vec3 org, Vec3 dir, float t) { return org + dir * t; }  // as trace() computes p
+Vec3 at(Vec3 org, Vec3 dir, float t) { return org + dir * t; } // as trace() computes p
 
 // ------------------------------------------------------------ reference
 
@@ -183,7 +195,8 @@ Ref ref_intersect(const Shape& s, D3 o, D3 d, double tMin = 0) {
     if (disc < 0) break;
     double q = -(b + std::copysign(std::sqrt(disc), b));
     double roots[2] = {q / a, (dot(f, f) - rad * rad) / q};
-    for (double t : roots) consider(r, t, tMin, unit(o + d * t - c), 0, d);
+    for (double t : roots)
+      consider(r, t, tMin, unit(o + d * t - c), 0, d);
     break;
   }
   case kPlane: {
@@ -200,12 +213,12 @@ Ref ref_intersect(const Shape& s, D3 o, D3 d, double tMin = 0) {
     D3 v = oc - ax * y0, u = d - ax * dy;
     double k = (r1 - r0) / h, rk = r0 + k * y0;
     double roots[2];
-    int n = quadratic(dot(u, u) - k * k * dy * dy, dot(u, v) - k * dy * rk, dot(v, v) - rk * rk,
-                      roots);
+    int n =
+        quadratic(dot(u, u) - k * k * dy * dy, dot(u, v) - k * dy * rk, dot(v, v) - rk * rk, roots);
     for (int i = 0; i < n; ++i) {
       double t = roots[i], y = y0 + t * dy;
       D3 g = v + u * t - ax * (k * (r0 + k * y));
-      if (dot(g, g) == 0) g = ax;  // the apex: same fallback as the float code
+      if (dot(g, g) == 0) g = ax; // the apex: same fallback as the float code
       edge_margin(r, std::min(std::fabs(y), std::fabs(y - h)), g, d);
       if (y < 0 || y > h) continue;
       consider(r, t, tMin, unit(g), 0, d);
@@ -228,10 +241,11 @@ Ref ref_intersect(const Shape& s, D3 o, D3 d, double tMin = 0) {
     double det = dot(e1, pv);
     if (det == 0) break;
     D3 nt = cross(e1, e2);
-    double tp = dot(A - o, nt) / dot(d, nt);  // where the ray crosses the plane
+    double tp = dot(A - o, nt) / dot(d, nt); // where the ray crosses the plane
     D3 q = o + d * tp;
-    edge_margin(r, std::min({seg_dist3d(q, A, dv(s.b)), seg_dist3d(q, dv(s.b), dv(s.c)),
-                                 seg_dist3d(q, dv(s.c), A)}),
+    edge_margin(r,
+                std::min({seg_dist3d(q, A, dv(s.b)), seg_dist3d(q, dv(s.b), dv(s.c)),
+                          seg_dist3d(q, dv(s.c), A)}),
                 nt, d);
     D3 tv = o - A;
     double u = dot(tv, pv) / det;
@@ -278,8 +292,10 @@ bool near_degenerate(const Shape& s, D3 o, D3 d, const Ref& base, double eta) {
 // Distance from p to the shape's surface (all its pieces), in double.
 double surface_distance(const Shape& s, D3 p) {
   switch (s.kind) {
-  case kSphere: return std::fabs(norm(p - dv(s.a)) - s.r0);
-  case kPlane: return std::fabs(dot(dv(s.a), p) - s.r0) / norm(dv(s.a));
+  case kSphere:
+    return std::fabs(norm(p - dv(s.a)) - s.r0);
+  case kPlane:
+    return std::fabs(dot(dv(s.a), p) - s.r0) / norm(dv(s.a));
   case kCylinder:
   case kCone: {
     // A surface of revolution: distance in the meridian half-plane (rho, y).
@@ -293,7 +309,7 @@ double surface_distance(const Shape& s, D3 p) {
   case kTriangle: {
     D3 A = dv(s.a), B = dv(s.b), C = dv(s.c), n = unit(cross(B - A, C - A));
     double h = dot(p - A, n);
-    D3 q = p - n * h;  // in the plane: inside when all edge tests agree
+    D3 q = p - n * h; // in the plane: inside when all edge tests agree
     double s0 = dot(cross(B - A, q - A), n), s1 = dot(cross(C - B, q - B), n),
            s2 = dot(cross(A - C, q - C), n);
     if (s0 >= 0 && s1 >= 0 && s2 >= 0) return std::fabs(h);
@@ -310,7 +326,8 @@ double surface_distance(const Shape& s, D3 p) {
 double carrier_distance(const Shape& s, D3 p) {
   switch (s.kind) {
   case kSphere:
-  case kPlane: return surface_distance(s, p);
+  case kPlane:
+    return surface_distance(s, p);
   case kCylinder:
   case kCone: {
     D3 ax = unit(dv(s.b)), oc = p - dv(s.a);
@@ -342,7 +359,9 @@ bool inside_solid(const Shape& s, D3 p) {
 // ------------------------------------------------------------ random input
 
 using Rng = std::mt19937;
-double uni(Rng& g, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(g); }
+double uni(Rng& g, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(g);
+}
 double loguni(Rng& g, double lo, double hi) { return std::exp(uni(g, std::log(lo), std::log(hi))); }
 D3 rand_unit(Rng& g) {
   std::normal_distribution<double> n;
@@ -366,12 +385,18 @@ Vec3 fdir(D3 d) { return fv(unit(d)); }
 enum class Kind { Sphere, Plane, CappedCylinder, OpenFrustum, FullCone, Triangle };
 const char* kind_name(Kind k) {
   switch (k) {
-  case Kind::Sphere: return "sphere";
-  case Kind::Plane: return "plane";
-  case Kind::CappedCylinder: return "capped cylinder";
-  case Kind::OpenFrustum: return "open frustum";
-  case Kind::FullCone: return "full cone";
-  case Kind::Triangle: return "triangle";
+  case Kind::Sphere:
+    return "sphere";
+  case Kind::Plane:
+    return "plane";
+  case Kind::CappedCylinder:
+    return "capped cylinder";
+  case Kind::OpenFrustum:
+    return "open frustum";
+  case Kind::FullCone:
+    return "full cone";
+  case Kind::Triangle:
+    return "triangle";
   }
   return "?";
 }
@@ -383,7 +408,7 @@ struct Sample {
   D3 centre;
   double extent;
   D3 anchor;
-  bool closed;  // closed convex solid: a ray from inside always hits
+  bool closed; // closed convex solid: a ray from inside always hits
 };
 
 Sample random_shape(Kind kind, Rng& g) {
@@ -411,7 +436,7 @@ Sample random_shape(Kind kind, Rng& g) {
     u8 caps = kCapBase | kCapTop;
     if (kind == Kind::OpenFrustum) {
       r1 = float(r0 * uni(g, 0.1, 0.9));
-      if (uni(g, 0, 1) < 0.3) std::swap(r0, r1);  // widening frustum, open at the wide end
+      if (uni(g, 0, 1) < 0.3) std::swap(r0, r1); // widening frustum, open at the wide end
       caps = kCapBase;
     } else if (kind == Kind::FullCone) {
       r1 = 0;
@@ -429,7 +454,7 @@ Sample random_shape(Kind kind, Rng& g) {
       D3 A = c + rand_ball(g, L), B = c + rand_ball(g, L), C = c + rand_ball(g, L);
       Shape s = make_triangle(fv(A), fv(B), fv(C));
       D3 a = dv(s.a), b = dv(s.b), cc = dv(s.c);
-      if (norm(cross(b - a, cc - a)) < 1e-3 * L * L) continue;  // keep it a triangle
+      if (norm(cross(b - a, cc - a)) < 1e-3 * L * L) continue; // keep it a triangle
       D3 cen = (a + b + cc) * (1.0 / 3);
       double ext = std::max({norm(a - cen), norm(b - cen), norm(cc - cen)});
       smp = {s, cen, ext, a, false};
@@ -547,7 +572,7 @@ TEST(Sphere, HeadOnHitIsExact) {
 TEST(Sphere, TangentRayGrazesFinitely) {
   Shape s = make_sphere(v3(0, 0, 0), 1);
   Vec3 d = v3(1, 0, 0);
-  Cast tangent = cast(s, v3(-5, 1, 0), d);  // touches at (0, 1, 0)
+  Cast tangent = cast(s, v3(-5, 1, 0), d); // touches at (0, 1, 0)
   if (tangent.hit) {
     expect_valid_hit(tangent, d, "tangent");
     EXPECT_NEAR(tangent.h.t, 5.0f, 1e-3f);
@@ -568,7 +593,8 @@ TEST(Sphere, RaySpawnedFromHitDoesNotRehit) {
   Rng g(101);
   int checked = 0;
   for (int i = 0; i < 2000; ++i) {
-    Vec3 o = fv(D3{0.5, -0.25, 2} + rand_unit(g) * 6), d = fdir(D3{0.5, -0.25, 2} + rand_ball(g, 1.4) - dv(o));
+    Vec3 o = fv(D3{0.5, -0.25, 2} + rand_unit(g) * 6),
+         d = fdir(D3{0.5, -0.25, 2} + rand_ball(g, 1.4) - dv(o));
     Cast c = cast(s, o, d);
     if (!c.hit) continue;
     Vec3 p = at(o, d, c.h.t), n = c.h.normal;
@@ -609,7 +635,7 @@ TEST(Sphere, RayFromInsideOffCentre) {
   ASSERT_TRUE(c.hit);
   EXPECT_FLOAT_EQ(c.h.t, 3.5f);
   EXPECT_FALSE(c.h.front);
-  EXPECT_EQ(c.h.normal.x, 1.0f);  // facing the ray: the inward normal
+  EXPECT_EQ(c.h.normal.x, 1.0f); // facing the ray: the inward normal
 }
 
 TEST(Sphere, FarAwayAt1e6) {
@@ -617,7 +643,7 @@ TEST(Sphere, FarAwayAt1e6) {
   Cast c = cast(s, v3(0, 0, 0), v3(0, 0, 1));
   ASSERT_TRUE(c.hit);
   expect_valid_hit(c, v3(0, 0, 1), "far");
-  EXPECT_NEAR(c.h.t, 1e6 - 1, 0.125);  // float spacing at 1e6 is 0.0625
+  EXPECT_NEAR(c.h.t, 1e6 - 1, 0.125); // float spacing at 1e6 is 0.0625
   EXPECT_NEAR(c.h.normal.z, -1.0f, 1e-6f);
   // And a sphere of radius 1e6 seen from just outside it.
   Shape big = make_sphere(v3(0, -1e6f, 0), 1e6f);
@@ -632,7 +658,7 @@ TEST(Sphere, VeryCloseTinyT) {
   Cast c = cast(s, o, v3(0, 0, 1));
   ASSERT_TRUE(c.hit);
   Ref r = ref_intersect(s, dv(o), D3{0, 0, 1});
-  EXPECT_NEAR(c.h.t, r.t, 2e-7);  // a few eps of |org|^2 in c, divided by q ~ 2
+  EXPECT_NEAR(c.h.t, r.t, 2e-7); // a few eps of |org|^2 in c, divided by q ~ 2
   EXPECT_TRUE(c.h.front);
   // A tiny sphere.
   Shape tiny = make_sphere(v3(0, 0, 1), 1e-4f);
@@ -661,7 +687,7 @@ TEST(Plane, ParallelRayMissesAndLeavesHitAlone) {
   Cast above = cast(s, v3(0, 1, 0), v3(1, 0, 0));
   EXPECT_FALSE(above.hit);
   EXPECT_TRUE(untouched(above, kHuge));
-  Cast inPlane = cast(s, v3(0, 0, 0), v3(0, 0, 1));  // lies in the plane
+  Cast inPlane = cast(s, v3(0, 0, 0), v3(0, 0, 1)); // lies in the plane
   EXPECT_FALSE(inPlane.hit);
   EXPECT_TRUE(untouched(inPlane, kHuge));
 }
@@ -689,7 +715,7 @@ TEST(Plane, GrazingAngleT) {
     ASSERT_TRUE(h.hit) << c;
     expect_valid_hit(h, d, "grazing");
     double tRef = 2.0 / -double(d.y);
-    EXPECT_NEAR(h.h.t / tRef, 1.0, 4 * kEps) << c;  // one division: correctly rounded
+    EXPECT_NEAR(h.h.t / tRef, 1.0, 4 * kEps) << c; // one division: correctly rounded
   }
 }
 
@@ -739,7 +765,7 @@ TEST(Plane, FarAndNear) {
 }
 
 TEST(Plane, ZeroNormalFallsBackFinite) {
-  Shape s = make_plane(v3(0, 0, 0), 1);  // normalize's fallback: +y
+  Shape s = make_plane(v3(0, 0, 0), 1); // normalize's fallback: +y
   EXPECT_NEAR(flen(s.a), 1.0, kUnitTol);
   Cast c = cast(s, v3(0, 5, 0), v3(0, -1, 0));
   ASSERT_TRUE(c.hit);
@@ -799,7 +825,7 @@ TEST(Cylinder, RayAlongAxisFromOutsideHitsCap) {
 }
 
 TEST(Cylinder, ParallelToAxisInOpenTubeMisses) {
-  Shape tube = unit_cylinder(0);  // A = 0, B = 0: the side is never crossed
+  Shape tube = unit_cylinder(0); // A = 0, B = 0: the side is never crossed
   for (Vec3 o : {v3(0, -5, 0), v3(0.5f, -5, 0.3f), v3(0, 1, 0), v3(0.99f, 1, 0)}) {
     Cast c = cast(tube, o, v3(0, 1, 0));
     EXPECT_FALSE(c.hit) << o.x;
@@ -903,7 +929,7 @@ TEST(Cone, EqualRadiiMakeACylinder) {
 TEST(Cone, RayAlongAxisThroughApex) {
   Cast c = cast(unit_cone(), v3(0, 5, 0), v3(0, -1, 0));
   ASSERT_TRUE(c.hit);
-  expect_valid_hit(c, v3(0, -1, 0), "apex on axis");  // gradient 0: normal falls back to axis
+  expect_valid_hit(c, v3(0, -1, 0), "apex on axis"); // gradient 0: normal falls back to axis
   EXPECT_EQ(c.h.t, 3.0f);
   EXPECT_TRUE(c.h.front);
 }
@@ -935,7 +961,7 @@ TEST(Cone, ObliqueRaysThroughApexFinite) {
 TEST(Cone, RayParallelToSideSingleRoot) {
   // A ray parallel to a generator (A = 0 in the quadratic): one root, C/q.
   Shape s = unit_cone();
-  D3 gen = unit(D3{1, -2, 0});  // apex (0,2,0) to rim (1,0,0)
+  D3 gen = unit(D3{1, -2, 0}); // apex (0,2,0) to rim (1,0,0)
   for (double off : {-0.3, -0.1, 0.05}) {
     D3 o = D3{0, 2, 0} - gen * 3 + D3{0, 0, off};
     Vec3 fo = fv(o), fd = fv(gen);
@@ -949,7 +975,7 @@ TEST(Cone, RayParallelToSideSingleRoot) {
 }
 
 TEST(Cone, TangentToSideGrazesFinitely) {
-  Shape s = unit_cone();  // radius 0.5 at y = 1
+  Shape s = unit_cone(); // radius 0.5 at y = 1
   Vec3 d = v3(1, 0, 0);
   Cast t = cast(s, v3(-5, 1, 0.5f), d);
   if (t.hit) {
@@ -979,7 +1005,7 @@ TEST(Cone, RaysFromInsideHitOnceFromInside) {
 
 TEST(Cone, BaseCapRimHitExactly) {
   Shape s = unit_cone();
-  Vec3 d = fdir(D3{-1, 1, 0});  // from below-outside, into the rim at (1, 0, 0)
+  Vec3 d = fdir(D3{-1, 1, 0}); // from below-outside, into the rim at (1, 0, 0)
   Cast c = cast(s, v3(2, -1, 0), d);
   ASSERT_TRUE(c.hit);
   expect_valid_hit(c, d, "cone rim");
@@ -992,7 +1018,7 @@ TEST(OpenFrustum, RayDownThroughOpeningHitsBaseFromInside) {
   ASSERT_TRUE(c.hit);
   expect_valid_hit(c, v3(0, -1, 0), "through opening");
   EXPECT_EQ(c.h.t, 5.0f);
-  EXPECT_FALSE(c.h.front);  // the base cap seen from inside the solid
+  EXPECT_FALSE(c.h.front); // the base cap seen from inside the solid
   EXPECT_EQ(c.h.normal.y, 1.0f);
 }
 
@@ -1007,14 +1033,14 @@ TEST(OpenFrustum, InnerWallSeenThroughOpening) {
     D3 d = unit(D3{uni(g, -2.5, 2.5), -1, uni(g, -2.5, 2.5)});
     Vec3 o = fv(p - d * 2), fd = fv(d);
     Cast c = cast(s, o, fd);
-    ASSERT_TRUE(c.hit) << i;  // the base cap closes it below
+    ASSERT_TRUE(c.hit) << i; // the base cap closes it below
     expect_valid_hit(c, fd, "opening");
     EXPECT_FALSE(c.h.front) << i;
     Ref r = ref_intersect(s, dv(o), dv(fd));
     EXPECT_NEAR(c.h.t, r.t, 1e-5 * (1 + r.t)) << i;
     inner += r.piece == 0;
   }
-  EXPECT_GT(inner, 200);  // some of them do land on the inner wall
+  EXPECT_GT(inner, 200); // some of them do land on the inner wall
 }
 
 TEST(OpenFrustum, OpeningRimFinite) {
@@ -1038,11 +1064,11 @@ TEST(OpenFrustum, OpeningRimFinite) {
 
 TEST(Cone, FarAwayAndTiny) {
   Shape far = make_cone(v3(0, 0, 1e6f), v3(0, 0, -1), 1, 0, 2, kCapBase);
-  Cast c = cast(far, v3(0, 0, 0), v3(0, 0, 1));  // meets the apex at 1e6 - 2
+  Cast c = cast(far, v3(0, 0, 0), v3(0, 0, 1)); // meets the apex at 1e6 - 2
   ASSERT_TRUE(c.hit);
   EXPECT_NEAR(c.h.t, 1e6 - 2, 0.125);
   Shape tiny = make_cone(v3(0, -5e-5f, 1), v3(0, 1, 0), 1e-4f, 0, 1e-4f, kCapBase);
-  Cast t = cast(tiny, v3(0, 0, 0), v3(0, 0, 1));  // radius 5e-5 at y = 0
+  Cast t = cast(tiny, v3(0, 0, 0), v3(0, 0, 1)); // radius 5e-5 at y = 0
   ASSERT_TRUE(t.hit);
   expect_valid_hit(t, v3(0, 0, 1), "tiny cone");
   EXPECT_NEAR(t.h.t, 1 - 5e-5, 1e-7);
@@ -1076,7 +1102,7 @@ void expect_rim_watertight(const char* name, u8 capsWanted, bool fullCone) {
   for (int shape = 0; shape < 200; ++shape) {
     Sample smp = random_shape(fullCone ? Kind::FullCone : Kind::CappedCylinder, g);
     Shape& s = smp.s;
-    if (!fullCone && uni(g, 0, 1) < 0.5) {  // also frusta with both caps
+    if (!fullCone && uni(g, 0, 1) < 0.5) { // also frusta with both caps
       s = make_cone(s.a, s.b, s.r0, float(s.r0 * uni(g, 0.2, 0.9)), s.h, kCapBase | kCapTop);
     }
     D3 ax = unit(dv(s.b)), e1, e2;
@@ -1088,14 +1114,14 @@ void expect_rim_watertight(const char* name, u8 capsWanted, bool fullCone) {
       D3 radial = e1 * std::cos(ph) + e2 * std::sin(ph);
       D3 P = dv(s.a) + ax * (top ? double(s.h) : 0.0) + radial * rc;
       D3 nSide = unit(radial - ax * k), nCap = top ? ax : -ax, d{0, 0, 0};
-      D3 along = cross(radial, ax);  // the rim's tangent
+      D3 along = cross(radial, ax); // the rim's tangent
       bool found = false;
       for (int attempt = 0; attempt < 100 && !found; ++attempt) {
         d = unit(-(nSide * uni(g, 0.05, 1) + nCap * uni(g, 0.05, 1)) + along * uni(g, -1, 1) +
                  rand_unit(g) * 0.3);
         found = dot(d, nSide) < -0.001 && dot(d, nCap) < -0.001;
       }
-      if (!found) continue;  // a wedge too thin to aim into
+      if (!found) continue; // a wedge too thin to aim into
       Vec3 o = fv(P - d * (smp.extent * uni(g, 0.1, 3))), fd = fdir(d);
       Cast c = cast(s, o, fd);
       ++rays;
@@ -1114,7 +1140,9 @@ void expect_rim_watertight(const char* name, u8 capsWanted, bool fullCone) {
   EXPECT_EQ(cracks, 0);
 }
 
-TEST(Cylinder, CapRimNoCrack) { expect_rim_watertight("cylinder/frustum", kCapBase | kCapTop, false); }
+TEST(Cylinder, CapRimNoCrack) {
+  expect_rim_watertight("cylinder/frustum", kCapBase | kCapTop, false);
+}
 TEST(Cone, BaseCapRimNoCrack) { expect_rim_watertight("full cone", kCapBase, true); }
 
 // ---- triangle (a = origin, b = +x, c = +y: normal +z)
@@ -1138,8 +1166,8 @@ TEST(Triangle, EdgesAndVerticesAreInclusiveHeadOn) {
   // Axis-aligned rays at edge midpoints and vertices: the edge function is
   // exactly 0 there and the test is inclusive.
   Shape s = unit_triangle();
-  for (Vec3 p : {v3(0.5f, 0, 0), v3(0.5f, 0.5f, 0), v3(0, 0.5f, 0), v3(0, 0, 0), v3(1, 0, 0),
-                 v3(0, 1, 0)}) {
+  for (Vec3 p :
+       {v3(0.5f, 0, 0), v3(0.5f, 0.5f, 0), v3(0, 0.5f, 0), v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)}) {
     Cast c = cast(s, v3(p.x, p.y, 3), v3(0, 0, -1));
     ASSERT_TRUE(c.hit) << p.x << "," << p.y;
     EXPECT_EQ(c.h.t, 3.0f);
@@ -1152,7 +1180,8 @@ TEST(Triangle, ObliqueRaysAtEdgesAndVerticesFinite) {
   Shape s = unit_triangle();
   Rng g(112);
   for (int i = 0; i < 5000; ++i) {
-    D3 targets[6] = {{uni(g, 0, 1), 0, 0}, {0, uni(g, 0, 1), 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
+    D3 targets[6] = {
+        {uni(g, 0, 1), 0, 0}, {0, uni(g, 0, 1), 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
     double u = uni(g, 0, 1);
     targets[5] = {u, 1 - u, 0};
     D3 d = rand_unit(g);
@@ -1230,10 +1259,11 @@ TEST(Triangle, FanAroundSharedVertexHasNoHole) {
     }
     for (int i = 0; i < 1000; ++i) {
       D3 d = rand_unit(g);
-      if (std::fabs(dot(d, n)) < 0.2) continue;  // the fan is not flat: stay clear of edge-on
+      if (std::fabs(dot(d, n)) < 0.2) continue; // the fan is not flat: stay clear of edge-on
       Vec3 o = fv(dv(fc) - d * (L * uni(g, 0.1, 3))), fd = fdir(d);
       bool any = false;
-      for (const Shape& t : fan) any |= cast(t, o, fd).hit;
+      for (const Shape& t : fan)
+        any |= cast(t, o, fd).hit;
       ++rays;
       holes += !any;
     }
@@ -1244,16 +1274,16 @@ TEST(Triangle, FanAroundSharedVertexHasNoHole) {
 
 TEST(Triangle, RayInPlaneOrParallelMisses) {
   Shape s = unit_triangle();
-  Cast inPlane = cast(s, v3(-1, 0.25f, 0), v3(1, 0, 0));  // edge-on: det = 0
+  Cast inPlane = cast(s, v3(-1, 0.25f, 0), v3(1, 0, 0)); // edge-on: det = 0
   EXPECT_FALSE(inPlane.hit);
   EXPECT_TRUE(untouched(inPlane, kHuge));
   EXPECT_FALSE(cast(s, v3(-1, 0.25f, 0.5f), v3(1, 0, 0)).hit);
 }
 
 TEST(Triangle, DegenerateTrianglesNeverNaN) {
-  Shape shapes[] = {make_triangle(v3(0, 0, 0), v3(1, 0, 0), v3(2, 0, 0)),      // collinear
-                    make_triangle(v3(1, 1, 1), v3(1, 1, 1), v3(1, 1, 1)),      // a point
-                    make_triangle(v3(0, 0, 0), v3(1, 0, 0), v3(1, 1e-30f, 0))};  // sliver
+  Shape shapes[] = {make_triangle(v3(0, 0, 0), v3(1, 0, 0), v3(2, 0, 0)),       // collinear
+                    make_triangle(v3(1, 1, 1), v3(1, 1, 1), v3(1, 1, 1)),       // a point
+                    make_triangle(v3(0, 0, 0), v3(1, 0, 0), v3(1, 1e-30f, 0))}; // sliver
   Rng g(115);
   for (const Shape& s : shapes) {
     for (int i = 0; i < 2000; ++i) {
@@ -1304,8 +1334,12 @@ TEST(Triangle, SpawnedRayDoesNotRehit) {
 // ---- every shape
 
 std::vector<Shape> one_of_each() {
-  return {make_sphere(v3(0, 0, 0), 1), make_plane(v3(0, 1, 0), 0), unit_cylinder(), unit_cone(),
-          open_frustum(), unit_triangle()};
+  return {make_sphere(v3(0, 0, 0), 1),
+          make_plane(v3(0, 1, 0), 0),
+          unit_cylinder(),
+          unit_cone(),
+          open_frustum(),
+          unit_triangle()};
 }
 
 TEST(AllShapes, NaNAndInfRaysNeverHit) {
@@ -1319,7 +1353,7 @@ TEST(AllShapes, NaNAndInfRaysNeverHit) {
       for (Vec3 d : dirs) {
         if (finite3(o) && finite3(d)) continue;
         Cast c = cast(s, o, d);
-        if (c.hit) {  // an Inf direction may still give a finite t; never NaN
+        if (c.hit) { // an Inf direction may still give a finite t; never NaN
           EXPECT_TRUE(std::isfinite(c.h.t) && finite3(c.h.normal)) << int(s.kind);
         } else {
           EXPECT_TRUE(untouched(c, kHuge)) << int(s.kind);
@@ -1360,11 +1394,11 @@ TEST(AllShapes, IntervalIsOpenAndRespected) {
     ASSERT_TRUE(first.hit) << int(k.s.kind);
     float t = first.h.t;
     EXPECT_NEAR(t, k.t, 4e-7 * k.t) << int(k.s.kind);
-    Cast notNearer = cast(k.s, k.o, k.d, 0, t);  // hit.t == t: not nearer, untouched
+    Cast notNearer = cast(k.s, k.o, k.d, 0, t); // hit.t == t: not nearer, untouched
     EXPECT_FALSE(notNearer.hit) << int(k.s.kind);
     EXPECT_TRUE(untouched(notNearer, t)) << int(k.s.kind);
     EXPECT_FALSE(cast(k.s, k.o, k.d, 0, t * 0.5f).hit) << int(k.s.kind);
-    Cast later = cast(k.s, k.o, k.d, t);  // t == tMin: excluded; a far side may follow
+    Cast later = cast(k.s, k.o, k.d, t); // t == tMin: excluded; a far side may follow
     if (later.hit) {
       EXPECT_GT(later.h.t, t) << int(k.s.kind);
     }
@@ -1378,7 +1412,7 @@ TEST(AllShapes, IntervalIsOpenAndRespected) {
 
 struct SpawnCase {
   Sample smp;
-  Vec3 p, n;  // float hit point and ray-facing normal
+  Vec3 p, n; // float hit point and ray-facing normal
   bool front, degenerate, apex;
 };
 
@@ -1389,7 +1423,7 @@ struct PropStats {
   long spawnInEdge = 0, spawnInThin = 0, spawnApex = 0;
   double maxSurf = 0, maxT = 0, maxSurfOverOffset = 0, maxSurfApex = 0;
   long apexHits = 0;
-  std::string examples;  // the first few failures, for the assertion message
+  std::string examples; // the first few failures, for the assertion message
   int noted = 0;
 };
 
@@ -1423,7 +1457,7 @@ int check_spawn(const Sample& smp, Vec3 p, Vec3 n, bool front, Vec3 d2, float of
   bool flat = s.kind == kPlane || s.kind == kTriangle;
   float off = offsetScale * spawn_offset(p);
   Vec3 o2 = p + n * (dot(d2, n) >= 0 ? off : -off);
-  if (offsetScale == 1.0f) {  // the shipped function itself
+  if (offsetScale == 1.0f) { // the shipped function itself
     Vec3 o1 = spawn_origin(p, n, d2);
     EXPECT_TRUE(o1.x == o2.x && o1.y == o2.y && o1.z == o2.z);
   }
@@ -1451,7 +1485,7 @@ int check_spawn(const Sample& smp, Vec3 p, Vec3 n, bool front, Vec3 d2, float of
   // hits are counted, not checked.
   {
     double S = scale_of(smp, p, p);
-    Shape closed = s;  // an open frustum: the solid its missing cap would close
+    Shape closed = s; // an open frustum: the solid its missing cap would close
     if (closed.kind != kSphere) closed.caps = kCapBase | kCapTop;
     Ref thick = ref_intersect(closed, dv(p), -outward, 1e-4 * S);
     if (!thick.hit || thick.t < 4.0 * spawn_offset(p)) {
@@ -1595,9 +1629,10 @@ void run_properties(Kind kind, unsigned seed) {
   }
   if (safeLevel < 0) st.examples += "\n sweep at 2^0:" + sweep.examples;
   if (st.apexHits) {
-    std::printf("[ measured ] %s: %ld hits on rays through its part thinner than 2^-8 S, max surface "
-                "distance / S = %.3g (tol %.3g)\n",
-                kind_name(kind), st.apexHits, st.maxSurfApex, kApexTol);
+    std::printf(
+        "[ measured ] %s: %ld hits on rays through its part thinner than 2^-8 S, max surface "
+        "distance / S = %.3g (tol %.3g)\n",
+        kind_name(kind), st.apexHits, st.maxSurfApex, kApexTol);
   }
 
   const char* name = kind_name(kind);
@@ -1642,4 +1677,4 @@ TEST(ShapeProperties, OpenFrustum) { run_properties(Kind::OpenFrustum, 1004); }
 TEST(ShapeProperties, FullCone) { run_properties(Kind::FullCone, 1005); }
 TEST(ShapeProperties, Triangle) { run_properties(Kind::Triangle, 1006); }
 
-}  // namespace
+} // namespace

@@ -12,6 +12,15 @@
 //     along a cylinder's axis, through a cone's apex) either miss or hit finitely.
 // Rays spawned from a hit point must start at spawn_origin() so that they do
 // not find the surface they leave (self-intersection, "shadow acne").
+//
+// LEAVING FOR GOOD: every shape is flat (plane, triangle) or a convex solid
+// (sphere, closed frustum), or lies on the boundary of its convex hull (the
+// outer side of a frustum with an open cap). A ray from a hit point cannot
+// meet the shape again when it leaves a flat shape (to either side), or a
+// solid into the open half-space beyond the tangent plane at the hit point,
+// i.e. dot(dir, outward normal) > 0: that plane supports the whole solid or
+// hull. leaves_for_good() tells which; the tracer then skips the shape for
+// that ray instead of relying on spawn_origin() alone.
 #pragma once
 #include "rtmath.h"
 
@@ -68,6 +77,15 @@ constexpr float kBoundPad = 1.0f / 1024;
 constexpr float kSpawnRel = 1.0f / 4096;
 constexpr float kSpawnAbs = 1.0f / 4096;
 inline float spawn_offset(Vec3 p) { return kSpawnAbs + kSpawnRel * max_abs(p); }
+
+// True when a ray leaving `hit` (a hit on s, normal facing the incoming ray)
+// in direction dir cannot meet s again (LEAVING FOR GOOD above). The outward
+// normal is hit.normal when hit.front, else -hit.normal.
+inline bool leaves_for_good(const Shape& s, const Hit& hit, Vec3 dir) {
+  if (s.kind == kPlane || s.kind == kTriangle) return true;
+  float d = dot(dir, hit.normal);
+  return hit.front ? d > 0 : d < 0;
+}
 
 // Origin for a ray leaving hit point p (with ray-facing unit normal n) in
 // direction dir: pushed to the side of the surface that dir goes to.

@@ -46,10 +46,12 @@ inline u32 range_mask(int begin, int end) {
 
 // Nearest hit: foreground first; background objects only when no foreground
 // object was hit (the background contract in scene.h). Returns object index.
-int nearest(const Scene& s, const Ray& ray, Hit& hit) {
+// Objects whose bit is set in `skip` are not tested: the ray leaves one of
+// them on a side it cannot return from (leaves_for_good() in shapes.h).
+int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
   hit.t = kHuge;
   int found = -1;
-  u32 all = bound_mask(s, ray, kHuge, range_mask(0, s.numObjects));
+  u32 all = bound_mask(s, ray, kHuge, range_mask(0, s.numObjects) & ~skip);
   u32 foreground = range_mask(0, s.numForeground);
   for (u32 m = all & foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
@@ -67,13 +69,14 @@ int nearest(const Scene& s, const Ray& ray, Hit& hit) {
 // each foreground object on the way multiplies it by its transmit * colour
 // (a tinted shadow), an opaque one blocks it. `code` gets the shadow code of
 // PathRecord. Background objects cast no shadows (the contract).
-Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code) {
+// Objects in `skip` are not tested, as in nearest().
+Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32 skip) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
   Ray ray{p, L};
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = bound_mask(s, ray, dist, range_mask(0, s.numForeground)); mask;
+  for (u32 mask = bound_mask(s, ray, dist, range_mask(0, s.numForeground) & ~skip); mask;
        mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;
@@ -114,10 +117,10 @@ Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
 }  // namespace
 
-Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
+Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   const Scene& s = *ctx.scene;
   Hit hit;
-  int id = nearest(s, ray, hit);
+  int id = nearest(s, ray, hit, skip);
   u32* node = nullptr;
   PathRecord* rec = ctx.record;
   if (rec && depth <= kRecordDepth && weight >= kRecordWeight && rec->count < kMaxPathNodes) {
@@ -126,7 +129,9 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
   }
   if (id < 0) return s.background;
 
-  const Material& m = s.objects[id].mat;
+  const Object& obj = s.objects[id];
+  const Material& m = obj.mat;
+  u32 self = 1u << id;
   Vec3 N = hit.normal, V = -ray.dir;
   Vec3 p = ray.org + ray.dir * hit.t;
   Vec3 color = s.ambient * m.color;
@@ -142,7 +147,9 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
     // there to split on (a cast shadow, code 3, is one).
     int code = 0;
     Vec3 through = v3(0.0f);
-    if (NdotL > 0) through = transmittance(ctx, lightOrg, L, dist, code);
+    if (NdotL > 0)
+      through = transmittance(ctx, lightOrg, L, dist, code,
+                              leaves_for_good(obj.shape, hit, L) ? self : 0);
     u32 bits = (u32)code;
     if (NdotL > 0 && code != 3) {
       float spec;
@@ -163,7 +170,9 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
   if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
     Vec3 R = reflect(ray.dir, N);
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, R), R}, depth + 1, weight * m.reflect) * m.reflect;
+    color += trace(ctx, Ray{spawn_origin(p, N, R), R}, depth + 1, weight * m.reflect,
+                   leaves_for_good(obj.shape, hit, R) ? self : 0) *
+             m.reflect;
   }
   if (m.transmit > 0 && weight * m.transmit >= kMinRayWeight) {
     // Snell: eta = n1/n2; entering (front) goes air -> solid.
@@ -177,7 +186,8 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight) {
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, T), T}, depth + 1, weight * m.transmit) *
+    color += trace(ctx, Ray{spawn_origin(p, N, T), T}, depth + 1, weight * m.transmit,
+                   leaves_for_good(obj.shape, hit, T) ? self : 0) *
              m.transmit;
   }
   return color;

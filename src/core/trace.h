@@ -42,8 +42,10 @@ struct TraceContext {
 // rays whose weight falls below kMinRayWeight are not cast: for radiance up
 // to 1 their share of a pixel is under 2/255. That is a choice of the tracer
 // (full and adaptive renderers trace alike), not an adaptive-renderer error.
-// The result is finite and non-negative in every channel.
-Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f);
+// The result is finite and non-negative in every channel. Objects whose bit
+// (1 << index) is set in `skip` are not tested: a secondary ray skips the
+// object it leaves when leaves_for_good() (shapes.h) says it cannot meet it again.
+Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f, u32 skip = 0);
 constexpr float kMinRayWeight = 1.0f / 128;
 
 // Index of the object a ray sees first (foreground before background, as

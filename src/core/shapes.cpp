@@ -44,15 +44,21 @@ Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
 
 namespace {
 
-// Accepts t when it is the new nearest; writes the outward normal, then turns
-// it to face the ray.
-bool accept(float t, float tMin, Vec3 outward, const Ray& ray, Hit& hit) {
+// Accepts t when it is the new nearest: records t and which piece it is on.
+// The normal waits for hit_normal(): only the nearest hit needs one.
+bool accept(float t, float tMin, u8 piece, float local, Hit& hit) {
   if (!(t > tMin && t < hit.t)) return false;
-  bool front = dot(outward, ray.dir) < 0;
   hit.t = t;
+  hit.piece = piece;
+  hit.local = local;
+  return true;
+}
+
+// Writes the outward normal turned to face the ray, and hit.front.
+void face(Vec3 outward, const Ray& ray, Hit& hit) {
+  bool front = dot(outward, ray.dir) < 0;
   hit.normal = front ? outward : -outward;
   hit.front = front;
-  return true;
 }
 
 // Sphere, after Haines et al., "Precision Improvements for Ray/Sphere
@@ -77,16 +83,19 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     t1 = tmp;
   }
   float t = t0 > tMin ? t0 : t1;
-  if (!(t > tMin && t < hit.t)) return false;
-  Vec3 p = ray.org + ray.dir * t;
-  return accept(t, tMin, normalize((p - s.a) * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
+  return accept(t, tMin, 0, 0.0f, hit);
+}
+
+void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
+  Vec3 p = ray.org + ray.dir * hit.t;
+  face(normalize((p - s.a) * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
 }
 
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float denom = dot(s.a, ray.dir);
   if (denom == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
   float t = (s.r0 - dot(s.a, ray.org)) / denom;
-  return accept(t, tMin, s.a, ray, hit);  // t may be +-Inf for tiny denom: rejected by hit.t
+  return accept(t, tMin, 0, 0.0f, hit);  // t may be +-Inf for tiny denom: rejected by hit.t
 }
 
 // Where a cap meets the side, the two pieces overlap by `rim` = kRimRel times
@@ -114,14 +123,34 @@ constexpr float kRimRel = 1.0f / 1048576;
 // remedy Haines et al. apply to spheres). Solved from the ray's origin, a
 // cylinder of radius 1 at 1e6 units, or of radius 1e-4 at 1 unit, lost all
 // of them (tests/test_shapes.cpp, Cylinder.FarAwayAndTiny).
-bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+// Pieces of a frustum, in Hit::piece; Hit::local is the root tr (t = tc + tr).
+enum : u8 { kPieceSide, kPieceBase, kPieceTop };
+
+// The ray in the axis frame, shared by hit_frustum() and frustum_normal() so
+// that the normal is computed from the very values the hit was.
+struct FrustumFrame {
+  Vec3 oc0, v, u;
+  float tc, y0, dy, k;
+};
+
+inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
+  FrustumFrame f;
   Vec3 axis = s.b;
-  Vec3 oc0 = ray.org - s.a;
-  float tc = -dot(oc0, ray.dir);
-  Vec3 oc = oc0 + ray.dir * tc;
-  float y0 = dot(oc, axis), dy = dot(ray.dir, axis);
-  Vec3 v = oc - axis * y0, u = ray.dir - axis * dy;
-  float k = (s.r1 - s.r0) / s.h;
+  f.oc0 = ray.org - s.a;
+  f.tc = -dot(f.oc0, ray.dir);
+  Vec3 oc = f.oc0 + ray.dir * f.tc;
+  f.y0 = dot(oc, axis);
+  f.dy = dot(ray.dir, axis);
+  f.v = oc - axis * f.y0;
+  f.u = ray.dir - axis * f.dy;
+  f.k = (s.r1 - s.r0) / s.h;
+  return f;
+}
+
+bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  FrustumFrame f = frustum_frame(s, ray);
+  Vec3 oc0 = f.oc0, v = f.v, u = f.u;
+  float tc = f.tc, y0 = f.y0, dy = f.dy, k = f.k;
   float rk = s.r0 + k * y0;
   float A = dot(u, u) - k * k * dy * dy;
   float B = dot(u, v) - k * dy * rk;
@@ -137,12 +166,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
       if (!(t > tMin && t < hit.t)) continue;
       float y = y0 + tr * dy, rim = kRimRel * (scale + rt_abs(tr));
       if (y < -rim || y > s.h + rim) continue;
-      // Outward normal: gradient of |p_perp|^2 - r(y)^2, i.e. p_perp - k r(y) axis.
-      // At a cone's apex p_perp = 0 and r = 0: the gradient vanishes, so the
-      // fallback is the axis direction (the apex's cap side).
-      Vec3 pPerp = v + u * tr;
-      Vec3 n = normalize(pPerp - axis * (k * (s.r0 + k * y)), axis);
-      found |= accept(t, tMin, n, ray, hit);
+      found |= accept(t, tMin, kPieceSide, tr, hit);
     }
   }
   // Caps: discs at y = 0 (normal -axis) and y = h (normal +axis).
@@ -155,10 +179,25 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
       Vec3 pPerp = v + u * tr;
       float rr = rc + kRimRel * (scale + rt_abs(tr));
       if (dot(pPerp, pPerp) > rr * rr) continue;
-      found |= accept(t, tMin, cap ? axis : -axis, ray, hit);
+      found |= accept(t, tMin, cap ? kPieceTop : kPieceBase, tr, hit);
     }
   }
   return found;
+}
+
+void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
+  Vec3 axis = s.b;
+  if (hit.piece != kPieceSide) {
+    face(hit.piece == kPieceTop ? axis : -axis, ray, hit);
+    return;
+  }
+  FrustumFrame f = frustum_frame(s, ray);
+  float tr = hit.local, y = f.y0 + tr * f.dy;
+  // Outward normal: gradient of |p_perp|^2 - r(y)^2, i.e. p_perp - k r(y) axis.
+  // At a cone's apex p_perp = 0 and r = 0: the gradient vanishes, so the
+  // fallback is the axis direction (the apex's cap side).
+  Vec3 pPerp = f.v + f.u * tr;
+  face(normalize(pPerp - axis * (f.k * (s.r0 + f.k * y)), axis), ray, hit);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -194,12 +233,12 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if (det == 0) return false;  // ray in the triangle's plane: edge-on, no area seen
   float T = U * Sz * comp(A, kz) + V * Sz * comp(B, kz) + W * Sz * comp(C, kz);
   float t = T / det;
-  return accept(t, tMin, normalize(cross(s.b - s.a, s.c - s.a)), ray, hit);
+  return accept(t, tMin, 0, 0.0f, hit);
 }
 
 }  // namespace
 
-bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   switch (s.kind) {
   case kSphere: return hit_sphere(s, ray, tMin, hit);
   case kPlane: return hit_plane(s, ray, tMin, hit);
@@ -208,6 +247,22 @@ bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   case kTriangle: return hit_triangle(s, ray, tMin, hit);
   }
   return false;
+}
+
+void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
+  switch (s.kind) {
+  case kSphere: sphere_normal(s, ray, hit); return;
+  case kPlane: face(s.a, ray, hit); return;
+  case kCylinder:
+  case kCone: frustum_normal(s, ray, hit); return;
+  case kTriangle: face(normalize(cross(s.b - s.a, s.c - s.a)), ray, hit); return;
+  }
+}
+
+bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  if (!intersect_t(s, ray, tMin, hit)) return false;
+  hit_normal(s, ray, hit);
+  return true;
 }
 
 void shape_bound(const Shape& s, Vec3& centre, float& radius) {

@@ -4,7 +4,8 @@
 //   * ray.dir has unit length; ray.org is finite.
 //   * intersect() reports the nearest hit with  tMin < t < hit.t  (hit.t holds
 //     the current nearest distance on entry, kHuge for "none yet"), and then
-//     overwrites hit.t, hit.normal and hit.front; otherwise it leaves hit alone.
+//     overwrites hit.t, hit.normal and hit.front (and piece, local); otherwise
+//     it leaves hit alone.
 //   * hit.normal is unit length and faces the incoming ray: dot(normal, dir) <= 0.
 //   * hit.front is true when the ray arrives from outside the solid (or from
 //     the side the plane/triangle normal points to).
@@ -32,6 +33,8 @@ struct Hit {
   float t;
   Vec3 normal;
   bool front;
+  u8 piece;     // intersect_t(): which piece of the shape (frustum: side, base, top cap)
+  float local;  // intersect_t(): the shape's own parameter of the hit, for hit_normal()
 };
 
 enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle };
@@ -61,6 +64,14 @@ Shape make_cone(Vec3 base, Vec3 axis, float baseRadius, float topRadius, float h
 Shape make_triangle(Vec3 a, Vec3 b, Vec3 c);
 
 bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit);
+
+// intersect() in two steps, for a tracer that tests several shapes and needs
+// one normal: intersect_t() finds the hit as intersect() does (same t, same
+// accept/reject) but writes only hit.t, hit.piece and hit.local; then
+// hit_normal(), with the same shape and ray, writes hit.normal and hit.front
+// exactly as intersect() would have. A shadow ray needs no normal at all.
+bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit);
+void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
 
 // A sphere enclosing the shape (radius kHuge for a plane), padded by
 // kBoundPad relative so that rounding never culls a real hit.

@@ -48,6 +48,7 @@ inline u32 range_mask(int begin, int end) {
 // object was hit (the background contract in scene.h). Returns object index.
 // Objects whose bit is set in `skip` are not tested: the ray leaves one of
 // them on a side it cannot return from (leaves_for_good() in shapes.h).
+// hit.normal and hit.front are left unset: hit_normal() fills them.
 int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
   hit.t = kHuge;
   int found = -1;
@@ -55,12 +56,12 @@ int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
   u32 foreground = range_mask(0, s.numForeground);
   for (u32 m = all & foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
-    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
   }
   if (found >= 0) return found;
   for (u32 m = all & ~foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
-    if (intersect(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
   }
   return found;
 }
@@ -81,7 +82,7 @@ Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32
     int i = __builtin_ctz(mask);
     Hit hit;
     hit.t = dist;
-    if (!intersect(s.objects[i].shape, ray, 0.0f, hit)) continue;
+    if (!intersect_t(s.objects[i].shape, ray, 0.0f, hit)) continue;
     const Material& m = s.objects[i].mat;
     if (m.transmit <= 0) {
       code = 3;
@@ -131,6 +132,7 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
 
   const Object& obj = s.objects[id];
   const Material& m = obj.mat;
+  hit_normal(obj.shape, ray, hit);
   u32 self = 1u << id;
   Vec3 N = hit.normal, V = -ray.dir;
   Vec3 p = ray.org + ray.dir * hit.t;

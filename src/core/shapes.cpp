@@ -44,6 +44,13 @@ Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
 
 namespace {
 
+// |x| by clearing the sign bit (one andps); equals rt_abs(x) but for the sign
+// of a zero, which no caller here can tell apart.
+inline float abs_bits(float x) { return __builtin_fabsf(x); }
+inline float max_abs_bits(Vec3 a) {
+  return rt_max(abs_bits(a.x), rt_max(abs_bits(a.y), abs_bits(a.z)));
+}
+
 // Accepts t when it is the new nearest: records t and which piece it is on.
 // The normal waits for hit_normal(): only the nearest hit needs one.
 bool accept(float t, float tMin, u8 piece, float local, Hit& hit) {
@@ -156,7 +163,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float B = dot(u, v) - k * dy * rk;
   float C = dot(v, v) - rk * rk;
   bool found = false;
-  float scale = max_abs(oc0) + max_abs(s.a) + s.h + s.r0 + s.r1;
+  float scale = max_abs_bits(oc0) + max_abs_bits(s.a) + s.h + s.r0 + s.r1;
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
@@ -164,7 +171,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     for (float tr : roots) {
       float t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
-      float y = y0 + tr * dy, rim = kRimRel * (scale + rt_abs(tr));
+      float y = y0 + tr * dy, rim = kRimRel * (scale + abs_bits(tr));
       if (y < -rim || y > s.h + rim) continue;
       found |= accept(t, tMin, kPieceSide, tr, hit);
     }
@@ -177,7 +184,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
       float tr = (yc - y0) / dy, t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
       Vec3 pPerp = v + u * tr;
-      float rr = rc + kRimRel * (scale + rt_abs(tr));
+      float rr = rc + kRimRel * (scale + abs_bits(tr));
       if (dot(pPerp, pPerp) > rr * rr) continue;
       found |= accept(t, tMin, cap ? kPieceTop : kPieceBase, tr, hit);
     }
@@ -206,22 +213,24 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
 // both triangles, so the ground quad's diagonal has no cracks. Edge functions
 // that come out exactly 0 are recomputed in double, as the paper does.
 bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  const Vec3& d = ray.dir;
-  float ax = rt_abs(d.x), ay = rt_abs(d.y), az = rt_abs(d.z);
+  // Components indexed by kx, ky, kz from arrays: loads, not branches.
+  const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+  float ax = abs_bits(d[0]), ay = abs_bits(d[1]), az = abs_bits(d[2]);
   int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  float dz = comp(d, kz);
+  float dz = d[kz];
   if (dz < 0) {
     int tmp = kx;
     kx = ky;
     ky = tmp;
   }
-  float Sx = comp(d, kx) / dz, Sy = comp(d, ky) / dz, Sz = 1.0f / dz;
-  Vec3 A = s.a - ray.org, B = s.b - ray.org, C = s.c - ray.org;
-  float Ax = comp(A, kx) - Sx * comp(A, kz), Ay = comp(A, ky) - Sy * comp(A, kz);
-  float Bx = comp(B, kx) - Sx * comp(B, kz), By = comp(B, ky) - Sy * comp(B, kz);
-  float Cx = comp(C, kx) - Sx * comp(C, kz), Cy = comp(C, ky) - Sy * comp(C, kz);
+  float Sx = d[kx] / dz, Sy = d[ky] / dz, Sz = 1.0f / dz;
+  Vec3 A3 = s.a - ray.org, B3 = s.b - ray.org, C3 = s.c - ray.org;
+  const float A[3] = {A3.x, A3.y, A3.z}, B[3] = {B3.x, B3.y, B3.z}, C[3] = {C3.x, C3.y, C3.z};
+  float Ax = A[kx] - Sx * A[kz], Ay = A[ky] - Sy * A[kz];
+  float Bx = B[kx] - Sx * B[kz], By = B[ky] - Sy * B[kz];
+  float Cx = C[kx] - Sx * C[kz], Cy = C[ky] - Sy * C[kz];
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
   if (U == 0 || V == 0 || W == 0) {
     U = (float)((double)Cx * By - (double)Cy * Bx);
@@ -231,7 +240,7 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
   float det = U + V + W;
   if (det == 0) return false;  // ray in the triangle's plane: edge-on, no area seen
-  float T = U * Sz * comp(A, kz) + V * Sz * comp(B, kz) + W * Sz * comp(C, kz);
+  float T = U * Sz * A[kz] + V * Sz * B[kz] + W * Sz * C[kz];
   float t = T / det;
   return accept(t, tMin, 0, 0.0f, hit);
 }

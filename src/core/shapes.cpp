@@ -26,6 +26,9 @@ Shape make_cone(Vec3 base, Vec3 axis, float baseRadius, float topRadius, float h
   s.r0 = baseRadius;
   s.r1 = topRadius;
   s.h = height;
+  // Per-shape constants of hit_frustum(), computed once here.
+  s.c.x = (topRadius - baseRadius) / height;
+  s.c.y = max_abs(base) + height + baseRadius + topRadius;
   return s;
 }
 
@@ -150,7 +153,7 @@ inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
   f.dy = dot(ray.dir, axis);
   f.v = oc - axis * f.y0;
   f.u = ray.dir - axis * f.dy;
-  f.k = (s.r1 - s.r0) / s.h;
+  f.k = s.c.x;
   return f;
 }
 
@@ -163,7 +166,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float B = dot(u, v) - k * dy * rk;
   float C = dot(v, v) - rk * rk;
   bool found = false;
-  float scale = max_abs_bits(oc0) + max_abs_bits(s.a) + s.h + s.r0 + s.r1;
+  float scale = max_abs_bits(oc0) + s.c.y;
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));

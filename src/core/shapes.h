@@ -49,6 +49,9 @@ enum : u8 { kCapBase = 1, kCapTop = 2 };
 //              from base towards top, r0 = base radius, r1 = top radius
 //              (cylinder: r1 = r0; full cone: r1 = 0, the apex), h = height,
 //              caps = which discs are closed. Radius varies linearly along the axis.
+//              make_cone() also stores constants of the solver: c.x = slope
+//              (r1 - r0) / h, c.y = max_abs(a) + h + r0 + r1 (the shape's
+//              magnitude, in its rim tolerance).
 //   kTriangle: a, b, c = vertices; front side is where cross(b-a, c-a) points.
 struct Shape {
   ShapeKind kind;

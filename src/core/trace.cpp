@@ -15,8 +15,10 @@ typedef float f4 __attribute__((vector_size(16)));
 // Bit i set: the ray may hit object i (of those in `range`) before tMax,
 // judged by its bounding sphere (conservative: a clear bit is a sure miss).
 // Four bounds per step with SSE. Per bound: f = org - centre, b = f.d,
-// c = |f|^2 - r^2; a miss when the ray starts outside and points away
-// (c > 0, b > 0), passes beside (b^2 < c), or reaches it beyond tMax.
+// c = |f|^2 - r^2; a miss when the ray passes beside (b^2 < c), or starts
+// outside (c > 0) and points away (b > 0) or reaches it beyond tMax.
+// kLimited = false: tMax is kHuge, which no bound reaches, so that test goes.
+template <bool kLimited>
 u32 bound_mask(const Scene& s, const Ray& ray, float tMax, u32 range) {
   u32 mask = s.unboundedMask & range;
   f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
@@ -32,8 +34,9 @@ u32 bound_mask(const Scene& s, const Ray& ray, float tMax, u32 range) {
     f4 fz = oz - *(const f4*)(s.boundZ + g);
     f4 b = fx * dx + fy * dy + fz * dz;
     f4 c = fx * fx + fy * fy + fz * fz - *(const f4*)(s.boundR2 + g);
-    auto miss = ((c > zero) & (b > zero)) | (b * b < c) |
-                ((c > zero) & (-b - *(const f4*)(s.boundR + g) >= tm));
+    auto away = b > zero;
+    if (kLimited) away |= -b - *(const f4*)(s.boundR + g) >= tm;
+    auto miss = (b * b < c) | ((c > zero) & away);
     u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
     mask |= (m << g) & range;
   }
@@ -52,7 +55,7 @@ inline u32 range_mask(int begin, int end) {
 int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
   hit.t = kHuge;
   int found = -1;
-  u32 all = bound_mask(s, ray, kHuge, range_mask(0, s.numObjects) & ~skip);
+  u32 all = bound_mask<false>(s, ray, kHuge, range_mask(0, s.numObjects) & ~skip);
   u32 foreground = range_mask(0, s.numForeground);
   for (u32 m = all & foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
@@ -77,7 +80,7 @@ Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32
   Ray ray{p, L};
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = bound_mask(s, ray, dist, range_mask(0, s.numForeground) & ~skip); mask;
+  for (u32 mask = bound_mask<true>(s, ray, dist, range_mask(0, s.numForeground) & ~skip); mask;
        mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;

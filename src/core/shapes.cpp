@@ -42,6 +42,8 @@ Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
   s.a = a;
   s.b = b;
   s.c = c;
+  s.n = cross(b - a, c - a);
+  s.sideMargin = kSideRel * max_abs(b - a) * max_abs(c - a);
   return s;
 }
 
@@ -216,6 +218,11 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
 // both triangles, so the ground quad's diagonal has no cracks. Edge functions
 // that come out exactly 0 are recomputed in double, as the paper does.
 bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  Vec3 ao = ray.org - s.a;
+  float side = dot(s.n, ao), away = dot(s.n, ray.dir);
+  if (tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
+      abs_bits(side) > s.sideMargin * max_abs_bits(ao))
+    return false;  // starts off the plane and moves away from it (kSideRel)
   // Components indexed by kx, ky, kz from arrays: loads, not branches.
   const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
   float ax = abs_bits(d[0]), ay = abs_bits(d[1]), az = abs_bits(d[2]);
@@ -267,7 +274,7 @@ void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
   case kPlane: face(s.a, ray, hit); return;
   case kCylinder:
   case kCone: frustum_normal(s, ray, hit); return;
-  case kTriangle: face(normalize(cross(s.b - s.a, s.c - s.a)), ray, hit); return;
+  case kTriangle: face(normalize(s.n), ray, hit); return;
   }
 }
 

@@ -30,21 +30,22 @@ bool audio_start(const short* samples) {
   format.nBlockAlign = 4;
   format.wBitsPerSample = 16;
   format.cbSize = 0;
-  if (waveOutOpen(&g.device, WAVE_MAPPER, &format, 0, 0, CALLBACK_NULL) != MMSYSERR_NOERROR)
-    return false;
-  g.header.lpData = (LPSTR)samples;
-  g.header.dwBufferLength = (DWORD)kAudioFrames * 4;
-  g.header.dwFlags = 0; // waveOutPrepareHeader wants 0; the loop flags come after
-  g.header.dwLoops = 0;
-  g.lastFrame = 0;
-  g.passes = 0;
-  if (waveOutPrepareHeader(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) {
-    g.header.dwFlags |= WHDR_BEGINLOOP | WHDR_ENDLOOP;
-    g.header.dwLoops = 0xFFFFFFFF;
-    if (waveOutWrite(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) return true;
-    waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
+  if (waveOutOpen(&g.device, WAVE_MAPPER, &format, 0, 0, CALLBACK_NULL) == MMSYSERR_NOERROR) {
+    g.header.lpData = (LPSTR)samples;
+    g.header.dwBufferLength = (DWORD)kAudioFrames * 4;
+    g.header.dwFlags = 0; // waveOutPrepareHeader wants 0; the loop flags come after
+    g.header.dwLoops = 0;
+    g.lastFrame = 0;
+    g.passes = 0;
+    if (waveOutPrepareHeader(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) {
+      g.header.dwFlags |= WHDR_BEGINLOOP | WHDR_ENDLOOP;
+      g.header.dwLoops = 0xFFFFFFFF;
+      if (waveOutWrite(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) return true;
+      waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
+    }
+    waveOutClose(g.device);
   }
-  waveOutClose(g.device);
+  g.device = nullptr; // audio_stop then does nothing
   return false;
 }
 
@@ -64,6 +65,7 @@ double audio_seconds() {
 }
 
 void audio_stop() {
+  if (!g.device) return;
   waveOutReset(g.device);
   waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
   waveOutClose(g.device);

@@ -7,8 +7,9 @@
 #pragma once
 
 // Opens the default output device (44.1 kHz stereo 16-bit) and starts
-// playing `samples`, kAudioFrames stereo frames from synth_render, over and
-// over. The samples must stay alive until audio_stop. False when there is no
+// playing `samples`, kAudioFrames stereo frames, over and over: one whole
+// loop of synth_render's music, which may begin anywhere in the loop (intro.exe
+// passes a window into two copies of the loop that starts at its /t: time). The samples must stay alive until audio_stop. False when there is no
 // device (waveOutOpen fails) or it refuses the buffer: then nothing plays and
 // the caller keeps its own clock.
 bool audio_start(const short* samples);
@@ -22,5 +23,6 @@ bool audio_start(const short* samples);
 // Only meaningful after audio_start returned true.
 double audio_seconds();
 
-// Stops playback and closes the device (after a successful audio_start).
+// Stops playback and closes the device. Does nothing when audio_start was
+// never called or returned false.
 void audio_stop();

@@ -1,29 +1,37 @@
-// intro.cpp - the Win32 entry point of intro.exe: window, clock, threads.
+// intro.cpp - the Win32 entry point of intro.exe: window, clock, threads, music.
 //
 // Platform contract (STYLE.md 1): this file alone owns the window, the clock,
-// the worker threads and the framebuffer; src/core and scenes/ only turn a
-// time into pixels, exactly as they do for the Linux tool. No C runtime: the
-// linker enters at intro_entry(), which never returns; every way out is
-// ExitProcess (0 for Esc, closing the window and the end of /bench; 1 when
-// the system refuses memory, a thread or the window).
+// the worker threads, the framebuffer and the sample buffer; src/core and
+// scenes/ only turn a time into pixels (and the synth into samples), exactly
+// as they do for the Linux tool. No C runtime: the linker enters at
+// intro_entry(), which never returns; every way out is ExitProcess (0 for Esc,
+// closing the window, the end of /once and of /bench; 1 when the system
+// refuses memory, a thread or the window).
 #define WIN32_LEAN_AND_MEAN
 #define _WIN32_WINNT 0x0601 // Windows 7: SetProcessDPIAware, AttachConsole
 #include <windows.h>
 
+#include "adaptive.h"
+#include "audio.h"
+#include "switches.h"
 #include "overlay.h"
 #include "scenes.h"
+#include "synth.h"
 #include "text.h"
-#include "trace.h"
 
 namespace {
 
-constexpr int kWidth = 800; // client area and framebuffer, pixels
+constexpr int kWidth = 800; // the picture (framebuffer), pixels
 constexpr int kHeight = 600;
-// A work item of the full trace is a band of kBandRows rows. 8 divides 600
-// and is one of the thesis's block sizes; 75 bands keep every core busy to
-// the end of a frame.
+// The adaptive renderer's settings: those of `rt64k render --mode adaptive`
+// (kDefaultBlock, kDefaultMinBlock in tools/frame.h, chosen from the
+// speed-against-error bench), so the screenshot tests can demand the same
+// pixels. Change both together.
+constexpr int kBaseBlock = 8;
+constexpr int kMinBlock = 2;
+// Without RT64K_ADAPTIVE a work item is a band of kBandRows fully traced
+// rows (8 divides 600; 75 bands keep every core busy to the end of a frame).
 constexpr int kBandRows = 8;
-constexpr int kBands = kHeight / kBandRows;
 static_assert(kHeight % kBandRows == 0, "bands must tile the frame");
 // Render threads: one per logical processor, at most this many (the most
 // GetSystemInfo reports for one processor group).
@@ -36,6 +44,19 @@ constexpr int kBenchFrames = 32;
 constexpr double kBenchStep = (double)kTimelineSeconds / kBenchFrames;
 constexpr double kBenchFirst = kBenchStep / 2;
 constexpr int kBenchDecimals = 2; // fps and seconds in the report
+// /log prints the picture's time with enough decimals to give back the same
+// float timeline time when `rt64k render --time` reads it (timeline_wrap's
+// float has ~4e-6 s steps near 64 s), the other times to the microsecond.
+constexpr int kLogTimeDecimals = 9;
+constexpr int kLogDecimals = 6;
+
+// Music: the loop is rendered once and stored twice in a row, so that a
+// window of kAudioFrames frames starting anywhere in the first copy is the
+// loop played from that point: waveOut plays it from the /t: time, in step
+// with the picture. 4 bytes per stereo frame.
+constexpr int kSampleCopies = 2;
+constexpr SIZE_T kLoopBytes = (SIZE_T)kAudioFrames * 4;
+constexpr int kShortsPerFrame = 2;
 
 const char kClassName[] = "rt64k";
 const char kWindowTitle[] = "rt64k";
@@ -45,86 +66,148 @@ constexpr DWORD kPathChars = MAX_PATH + sizeof kBenchFileName;
 constexpr int kReportChars = 256;
 
 constexpr DWORD kWindowStyle = WS_OVERLAPPED | WS_CAPTION | WS_SYSMENU | WS_MINIMIZEBOX;
+constexpr DWORD kFullscreenStyle = WS_POPUP; // no caption, no border
 
 // A top-down (negative height) 32-bit DIB: rows in memory order, 0xAARRGGBB.
 const BITMAPINFO kDib = {{sizeof(BITMAPINFOHEADER), kWidth, -kHeight, 1, 32, BI_RGB, 0, 0, 0, 0, 0},
                          {}};
 
-// One pass of work items, shared by the main thread and the workers. A
-// frame is one pass of the full trace; a renderer with phases (the adaptive
-// one: corners, then blocks) runs one pass per phase. The job lives on the
-// main thread's stack (mutable globals would land in the file: MinGW puts
-// zero-initialised data of -fdata-sections builds into .data). The main
-// thread writes `scene`, `items` and the counters only while every worker
-// waits on `start`; the semaphore release and the interlocked operations
-// order those writes before the workers' reads.
+// One frame of work items, shared by the main thread and the workers. The
+// adaptive renderer has two phases (corner rows, then block rows; every
+// phase-1 item reads corners of phase-0 items). Both run in one pass over a
+// single item counter: items [0, phase0Items) are phase 0, the rest phase 1.
+// A worker that draws a phase-1 item first waits until phase0Done reaches
+// phase0Items. That cannot deadlock: the counter hands out items in order,
+// so once any phase-1 item is taken every phase-0 item has been taken by a
+// worker that finishes it without waiting. The wait is short (at most the
+// rest of one row of corners) and costs no wake-up, where a pass per phase
+// would wake every worker and the main thread twice a frame (measured in
+// docs/win32.md).
+//
+// The job lives on the main thread's stack (mutable globals would land in
+// the file: MinGW puts zero-initialised data of -fdata-sections builds into
+// .data). The main thread writes `scene`, `frame` and the counters only while
+// every worker waits on `start`; the semaphore release and the interlocked
+// operations order those writes before the workers' reads. A worker that saw
+// phase0Done == phase0Items reads the corners the others wrote: their
+// InterlockedIncrement (a locked instruction, a full barrier) comes after
+// their writes, and x86-64 keeps loads in order; the compiler cannot move the
+// corner reads above the volatile read because they happen inside
+// adaptive_run, an external function.
 struct FrameJob {
   Scene scene;
-  u32* pixels;              // kWidth x kHeight, rows kWidth pixels apart
-  HANDLE start;             // semaphore: one count per worker per pass
+  AdaptiveFrame frame;      // frame.scene points at `scene`
+  HANDLE start;             // semaphore: one count per worker per frame
   HANDLE done;              // auto-reset event: set by the last worker to finish
-  LONG items;               // work items in this pass
+  LONG phase0Items;         // corner rows (all items without RT64K_ADAPTIVE)
+  LONG items;               // corner rows + block rows
   volatile LONG nextItem;   // next item to take
+  volatile LONG phase0Done; // phase-0 items finished
   volatile LONG busyCounts; // counts of `start` taken and not yet handed back
 };
 
-// A render worker. Each pass it takes one count of job.start, pulls items
+// A render worker. Each frame it takes one count of job.start, pulls items
 // from the shared counter until none is left and calls the core once per
-// item; the worker that hands back the pass's last count signals job.done.
-// A worker may take two counts of one pass; every item is still finished
+// item; the worker that hands back the frame's last count signals job.done.
+// A worker may take two counts of one frame; every item is still finished
 // before its own count is handed back, so "all counts back" means "all
 // items done".
 DWORD WINAPI render_worker(void* parameter) {
   FrameJob& job = *(FrameJob*)parameter;
+  const AdaptiveFrame& f = job.frame;
   for (;;) {
     WaitForSingleObject(job.start, INFINITE);
-    for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;)
-      render_full_rows(job.scene, job.pixels, kWidth, kHeight, kWidth, item * kBandRows,
-                       (item + 1) * kBandRows, nullptr);
+    RayStats stats; // adaptive_run adds to it; intro.exe does not report rays
+    for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;) {
+      if (!RT64K_ADAPTIVE) {
+        render_full_rows(job.scene, f.fb, kWidth, kHeight, kWidth, item * kBandRows,
+                         (item + 1) * kBandRows, nullptr);
+        continue;
+      }
+      int phase = item >= job.phase0Items;
+      if (phase) {
+        item -= job.phase0Items;
+        while (job.phase0Done < job.phase0Items)
+          SwitchToThread(); // lets a preempted phase-0 worker finish on this core
+      }
+      adaptive_run(f, phase, item, &stats);
+      if (!phase) InterlockedIncrement(&job.phase0Done);
+    }
     if (InterlockedDecrement(&job.busyCounts) == 0) SetEvent(job.done);
   }
+}
+
+// The music's precalc thread: renders the loop into `parameter` (two loops'
+// room, VirtualAlloc'ed, so zero-filled) and copies it after itself. Its
+// scratch is freed at once. Without scratch memory the samples stay zero:
+// the intro then runs on the audio clock in silence.
+DWORD WINAPI synth_worker(void* parameter) {
+  short* samples = (short*)parameter;
+  float* scratch = (float*)VirtualAlloc(nullptr, kSynthScratchFloats * sizeof(float),
+                                        MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
+  if (scratch) {
+    synth_render(samples, scratch);
+    VirtualFree(scratch, 0, MEM_RELEASE);
+  }
+  memcpy(samples + kAudioFrames * kShortsPerFrame, samples, kLoopBytes);
+  return 0;
+}
+
+[[noreturn]] void quit() {
+  if (RT64K_MUSIC) audio_stop();
+  ExitProcess(0);
 }
 
 LRESULT CALLBACK window_proc(HWND window, UINT message, WPARAM wParam, LPARAM lParam) {
   // Esc and closing (the close box, Alt+F4) end the intro at once.
   if ((message == WM_KEYDOWN && wParam == VK_ESCAPE) || message == WM_CLOSE ||
       message == WM_DESTROY)
-    ExitProcess(0);
+    quit();
   return DefWindowProcA(window, message, wParam, lParam);
 }
 
 void pump_messages() {
   MSG msg;
   while (PeekMessageA(&msg, nullptr, 0, 0, PM_REMOVE)) {
-    if (msg.message == WM_QUIT) ExitProcess(0);
+    if (msg.message == WM_QUIT) quit();
     DispatchMessageA(&msg);
   }
 }
 
-// Runs `items` work items on all workers and returns when all are done.
-// The main thread keeps serving the window meanwhile, so Esc acts within one
-// message round trip however long a frame takes.
-void run_pass(FrameJob& job, LONG workers, LONG items) {
-  job.items = items;
-  job.nextItem = 0;
-  job.busyCounts = workers;
-  ReleaseSemaphore(job.start, workers, nullptr);
+// Waits for `object` (an event or a thread) while serving the window, so Esc
+// acts within one message round trip however long the wait.
+void wait_pumping(HANDLE object) {
   for (;;) {
     pump_messages();
-    if (MsgWaitForMultipleObjectsEx(1, &job.done, INFINITE, QS_ALLINPUT, MWMO_INPUTAVAILABLE) ==
+    if (MsgWaitForMultipleObjectsEx(1, &object, INFINITE, QS_ALLINPUT, MWMO_INPUTAVAILABLE) ==
         WAIT_OBJECT_0)
       return;
   }
+}
+
+// Renders job.scene into job.frame.fb on all workers and returns when done.
+void render_frame(FrameJob& job, LONG workers) {
+  if (RT64K_ADAPTIVE) {
+    adaptive_begin(job.frame);
+    job.phase0Items = adaptive_items(job.frame, 0);
+    job.items = job.phase0Items + adaptive_items(job.frame, 1);
+  } else {
+    job.phase0Items = job.items = kHeight / kBandRows;
+  }
+  job.nextItem = 0;
+  job.phase0Done = 0;
+  job.busyCounts = workers;
+  ReleaseSemaphore(job.start, workers, nullptr);
+  wait_pumping(job.done);
 }
 
 double seconds_between(LARGE_INTEGER from, LARGE_INTEGER to, LARGE_INTEGER frequency) {
   return (double)(to.QuadPart - from.QuadPart) / (double)frequency.QuadPart;
 }
 
-// The /bench line goes to stdout (the parent's console, or wherever the
-// handle is redirected; under Wine the Unix stdout) and to kBenchFileName
-// next to the exe (in the current directory if the exe's path is too long).
-void write_bench_report(const char* text, DWORD length) {
+// Writes to stdout: the parent's console, or wherever the handle is
+// redirected (under Wine the Unix stdout). Nothing when there is none.
+void write_stdout(const char* text, DWORD length) {
   DWORD written;
   HANDLE out = GetStdHandle(STD_OUTPUT_HANDLE);
   if (!out || out == INVALID_HANDLE_VALUE) {
@@ -133,7 +216,13 @@ void write_bench_report(const char* text, DWORD length) {
                         nullptr);
   }
   if (out && out != INVALID_HANDLE_VALUE) WriteFile(out, text, length, &written, nullptr);
+}
 
+// The /bench line goes to stdout and to kBenchFileName next to the exe (in
+// the current directory if the exe's path is too long).
+void write_bench_report(const char* text, DWORD length) {
+  write_stdout(text, length);
+  DWORD written;
   char path[kPathChars];
   DWORD n = GetModuleFileNameA(nullptr, path, MAX_PATH);
   DWORD nameAt = 0; // where the file name goes: after the exe's last separator
@@ -182,17 +271,47 @@ double process_cpu_seconds() {
   ExitProcess(0);
 }
 
+// /log: "t=T a=A w=W" per frame: T the time the frame shows (the timeline
+// wraps it), A the music's position the clock read (seconds since playback
+// began; -1 when the frame's time did not come from the music), W seconds of
+// QueryPerformanceCounter since just before the first frame.
+void log_frame(double t, double played, double wall) {
+  char storage[kReportChars];
+  TextBuffer b = text_buffer(storage, kReportChars);
+  append(b, "t=");
+  append_fixed(b, t, kLogTimeDecimals);
+  append(b, " a=");
+  append_fixed(b, played, kLogDecimals);
+  append(b, " w=");
+  append_fixed(b, wall, kLogDecimals);
+  append(b, "\r\n");
+  write_stdout(storage, (DWORD)text_length(b));
+}
+
 [[noreturn]] void run(const IntroOptions& options) {
   // Real pixels on scaled desktops: otherwise Windows would stretch the
-  // 800x600 client area (blurring it) on a display set above 100 %.
+  // 800x600 client area (blurring it) on a display set above 100 %, and
+  // GetSystemMetrics would report a scaled-down screen.
   SetProcessDPIAware();
 
   FrameJob job;
-  job.pixels = (u32*)VirtualAlloc(nullptr, kWidth * kHeight * sizeof(u32), MEM_COMMIT | MEM_RESERVE,
-                                  PAGE_READWRITE);
+  AdaptiveFrame& f = job.frame;
+  f.scene = &job.scene;
+  f.width = f.stride = kWidth;
+  f.height = kHeight;
+  f.baseBlock = kBaseBlock;
+  f.minBlock = kMinBlock;
+  f.mode = kModeAdaptive;
+  f.kinds = nullptr;
+  // The framebuffer and the corner samples, allocated once for the whole run.
+  f.fb = (u32*)VirtualAlloc(nullptr, kWidth * kHeight * sizeof(u32), MEM_COMMIT | MEM_RESERVE,
+                            PAGE_READWRITE);
+  f.corners = (CornerSample*)VirtualAlloc(
+      nullptr, adaptive_corner_count(kWidth, kHeight, kBaseBlock) * sizeof(CornerSample),
+      MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
   job.start = CreateSemaphoreA(nullptr, 0, kMaxWorkers, nullptr);
   job.done = CreateEventA(nullptr, FALSE, FALSE, nullptr);
-  if (!job.pixels || !job.start || !job.done) ExitProcess(1);
+  if (!f.fb || !f.corners || !job.start || !job.done) ExitProcess(1);
 
   SYSTEM_INFO system;
   GetSystemInfo(&system);
@@ -204,43 +323,100 @@ double process_cpu_seconds() {
     if (CreateThread(nullptr, 0, render_worker, &job, 0, nullptr)) ++workers;
   if (workers == 0) ExitProcess(1);
 
+  // Music, unless its clock is not wanted (/hold, /bench) or /mute: the loop
+  // is synthesised on a thread of its own while the window opens and shows
+  // the first frame. Any failure here means silence on the system clock.
+  short* samples = nullptr;
+  HANDLE synth = nullptr;
+  if (RT64K_MUSIC && !options.hold && !options.bench && !options.mute) {
+    samples = (short*)VirtualAlloc(nullptr, kSampleCopies * kLoopBytes, MEM_COMMIT | MEM_RESERVE,
+                                   PAGE_READWRITE);
+    if (samples) synth = CreateThread(nullptr, 0, synth_worker, samples, 0, nullptr);
+  }
+
+  // The window: 800x600 of client area, or (/f) a borderless popup over the
+  // whole screen. CW_USEDEFAULT places a popup at 0, 0. The picture is
+  // scaled to the largest rectangle of its own aspect ratio that fits and
+  // centred; the class's black brush paints the bars (WM_ERASEBKGND).
+  int screenW = kWidth, screenH = kHeight;
+  DWORD style = kWindowStyle;
+  if (RT64K_FULLSCREEN && options.fullscreen) {
+    screenW = GetSystemMetrics(SM_CXSCREEN);
+    screenH = GetSystemMetrics(SM_CYSCREEN);
+    style = kFullscreenStyle;
+    ShowCursor(FALSE);
+  }
+  int pictureW = screenW, pictureH = screenW * kHeight / kWidth;
+  if (pictureH > screenH) {
+    pictureH = screenH;
+    pictureW = screenH * kWidth / kHeight;
+  }
+  int pictureX = (screenW - pictureW) / 2, pictureY = (screenH - pictureH) / 2;
+
   HINSTANCE instance = GetModuleHandleA(nullptr);
   WNDCLASSA windowClass = {};
   windowClass.style = CS_OWNDC; // one DC kept for the whole run
   windowClass.lpfnWndProc = window_proc;
   windowClass.hInstance = instance;
   windowClass.hCursor = LoadCursorA(nullptr, (LPCSTR)IDC_ARROW);
+  windowClass.hbrBackground = (HBRUSH)GetStockObject(BLACK_BRUSH);
   windowClass.lpszClassName = kClassName;
   RegisterClassA(&windowClass);
-  RECT outer = {0, 0, kWidth, kHeight};          // the client area we want ...
-  AdjustWindowRect(&outer, kWindowStyle, FALSE); // ... and the window around it
-  HWND window = CreateWindowExA(0, kClassName, kWindowTitle, kWindowStyle | WS_VISIBLE,
-                                CW_USEDEFAULT, CW_USEDEFAULT, outer.right - outer.left,
-                                outer.bottom - outer.top, nullptr, nullptr, instance, nullptr);
+  RECT outer = {0, 0, screenW, screenH}; // the client area we want ...
+  AdjustWindowRect(&outer, style, FALSE); // ... and the window around it
+  HWND window = CreateWindowExA(0, kClassName, kWindowTitle, style | WS_VISIBLE, CW_USEDEFAULT,
+                                CW_USEDEFAULT, outer.right - outer.left, outer.bottom - outer.top,
+                                nullptr, nullptr, instance, nullptr);
   if (!window) ExitProcess(1);
   HDC dc = GetDC(window);
+  // Scaled down (a screen under 800x600), the default BLACKONWHITE would AND
+  // dropped pixels together and darken the picture.
+  if (RT64K_FULLSCREEN) SetStretchBltMode(dc, COLORONCOLOR);
 
-  LARGE_INTEGER frequency, start, now;
+  // /once ends at the end of the timeline loop the start time lies in (64 s
+  // for any start in [0, 64)).
+  const double onceEnd =
+      options.startSeconds - timeline_wrap(options.startSeconds) + kTimelineSeconds;
+  bool playing = false;
+  LARGE_INTEGER frequency, firstFrame, clockStart, now;
   QueryPerformanceFrequency(&frequency);
-  QueryPerformanceCounter(&start);
+  QueryPerformanceCounter(&firstFrame);
+  clockStart = firstFrame;
   for (int frame = 0;; ++frame) {
-    // Time is real elapsed time (never the frame count), except under
-    // /bench, whose fixed steps make runs comparable.
-    double t = options.startSeconds;
+    // Time is the music's position, or real elapsed time, never the frame
+    // count; except under /bench, whose fixed steps make runs comparable,
+    // and /hold. The first frame shows the start time while the music is
+    // prepared; the clock starts after it.
+    double t = options.startSeconds, played = -1.0;
     if (options.bench) {
       t = kBenchFirst + frame * kBenchStep;
-    } else if (!options.hold) {
-      QueryPerformanceCounter(&now);
-      t += seconds_between(start, now, frequency);
+    } else if (frame > 0 && !options.hold) {
+      if (playing) {
+        t += played = audio_seconds();
+      } else {
+        QueryPerformanceCounter(&now);
+        t += seconds_between(clockStart, now, frequency);
+      }
     }
-    build_timeline_scene(job.scene, t);
-    run_pass(job, workers, kBands);
-    overlay_draw(job.pixels, kWidth, kHeight, kWidth, timeline_wrap(t)); // the captions
-    StretchDIBits(dc, 0, 0, kWidth, kHeight, 0, 0, kWidth, kHeight, job.pixels, &kDib,
+    if (RT64K_ONCE && options.once && !options.bench && t >= onceEnd) quit();
+    // Scene 2's renderer-visualisation segment tints the blocks.
+    f.showBlocks = build_timeline_scene(job.scene, t).showBlocks;
+    render_frame(job, workers);
+    overlay_draw(f.fb, kWidth, kHeight, kWidth, timeline_wrap(t)); // the captions
+    StretchDIBits(dc, pictureX, pictureY, pictureW, pictureH, 0, 0, kWidth, kHeight, f.fb, &kDib,
                   DIB_RGB_COLORS, SRCCOPY);
-    if (options.bench && frame + 1 == kBenchFrames) {
-      QueryPerformanceCounter(&now);
-      finish_bench(seconds_between(start, now, frequency), workers);
+    QueryPerformanceCounter(&now);
+    if (options.bench && frame + 1 == kBenchFrames)
+      finish_bench(seconds_between(firstFrame, now, frequency), workers);
+    if (RT64K_LOG && options.log) log_frame(t, played, seconds_between(firstFrame, now, frequency));
+    if (frame == 0) {
+      if (RT64K_MUSIC && synth) {
+        wait_pumping(synth);
+        // The loop from the start time's place in it, to the sample.
+        int offset = (int)(timeline_wrap(options.startSeconds) * kAudioRate);
+        playing = audio_start(samples + offset * kShortsPerFrame);
+      }
+      QueryPerformanceCounter(&clockStart);
     }
   }
 }

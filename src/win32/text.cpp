@@ -87,7 +87,7 @@ bool parse_seconds(const char* begin, const char* end, double* out) {
 }
 
 IntroOptions parse_command_line(const char* line) {
-  IntroOptions o{0.0, false, false};
+  IntroOptions o{0.0, false, false, false, false, false, false};
   if (!line) return o;
   const char* p = line;
   while (is_space(*p))
@@ -114,6 +114,14 @@ IntroOptions parse_command_line(const char* line) {
       o.hold = true;
     } else if (word_is(name, p, "bench")) {
       o.bench = true;
+    } else if (RT64K_FULLSCREEN && word_is(name, p, "f")) {
+      o.fullscreen = true;
+    } else if (RT64K_ONCE && word_is(name, p, "once")) {
+      o.once = true;
+    } else if (RT64K_MUTE && word_is(name, p, "mute")) {
+      o.mute = true;
+    } else if (RT64K_LOG && word_is(name, p, "log")) {
+      o.log = true;
     } else if (starts_with(name, p, "t:")) {
       double t;
       if (parse_seconds(name + 2, p, &t)) o.startSeconds = t;

@@ -6,6 +6,7 @@
 // an explicit end is given, garbage bytes) is safe; nothing reads or writes
 // outside the ranges it is given.
 #pragma once
+#include "switches.h"
 
 // Largest |/t:SECONDS| accepted: 1e9 s is ~31.7 years, beyond any compo; a
 // larger value is ignored like any malformed option. Keeps the clock finite
@@ -16,12 +17,17 @@ struct IntroOptions {
   double startSeconds; // /t:SECONDS (default 0); finite, |value| <= kMaxStartSeconds
   bool hold;           // /hold: the clock stands still at startSeconds
   bool bench;          // /bench: fixed time steps, report frames per second, exit
+  bool fullscreen;     // /f: the whole screen, the picture letterboxed
+  bool once;           // /once: exit with code 0 at the end of the timeline
+  bool mute;           // /mute: no music; the system clock
+  bool log;            // /log: one line per frame on stdout (tests)
 };
 
 // Parses a Win32 command line as GetCommandLineA returns it: the program name
 // first (possibly in double quotes), then options separated by spaces or tabs.
 // Options start with '/' or '-' and are case-insensitive: /t:SECONDS, /hold,
-// /bench. Unknown options, and a /t: whose number is malformed or out of
+// /bench, /f, /once, /mute, /log (each only where its switch in switches.h is
+// on; otherwise it is unknown). Unknown options, and a /t: whose number is malformed or out of
 // range, are ignored. A later /t: overrides an earlier one. Null gives defaults.
 IntroOptions parse_command_line(const char* line);
 

@@ -15,7 +15,7 @@
 set -u
 
 readonly kSkipCode=77
-readonly kScreenSize=1024x768x24  # Xvfb screen: holds the 800x600 window
+readonly kScreenSize=${RT64K_SCREEN:-1024x768x24}  # Xvfb screen: holds the 800x600 window
 readonly kWindowTimeoutSeconds=30 # from launch to the window being mapped
 readonly kWineserverTimeoutSeconds=30
 

@@ -1,0 +1,46 @@
+#!/bin/bash
+# wine.fullscreen_*: `intro.exe /f` covers the whole screen with a borderless
+# window and shows the 800x600 picture scaled with its 4:3 aspect kept,
+# centred, black bars filling the rest. Usage: test-fullscreen.sh WxH
+export RT64K_SCREEN="$1x24"  # read by common.sh: the Xvfb screen size
+source "$(dirname "$0")/common.sh"
+readonly kTime=44  # scene 2: bright, so the picture's own edges are not black
+# Scaled by StretchDIBits (nearest-neighbour under Wine) and by ImageMagick's
+# point filter, sample positions can differ by one source pixel at edges:
+# PSNR 20 dB is far above a wrong or unscaled picture (measured below 12 dB).
+readonly kMinPsnr=20
+TEST_NAME="$TEST_NAME-$1"
+sw=${1%x*}
+sh=${1#*x}
+setup
+launch_intro /f /t:$kTime /hold
+wait_window
+window_geometry
+echo "window: ${WIN_W}x${WIN_H} at +${WIN_X}+${WIN_Y} on a ${sw}x${sh} screen"
+[ "${WIN_W}x${WIN_H}+${WIN_X}+${WIN_Y}" = "${sw}x${sh}+0+0" ] || fail "the window does not cover the screen"
+# Expected picture: the largest 4:3 rectangle, centred.
+if [ $((sw * 3)) -le $((sh * 4)) ]; then pw=$sw; ph=$((sw * 3 / 4)); else ph=$sh; pw=$((sh * 4 / 3)); fi
+px=$(((sw - pw) / 2)); py=$(((sh - ph) / 2))
+ref="$WORK/ref.png"
+"$RT64K_TOOL" render --time $kTime ${RT64K_RENDER_ARGS:-} --out "$WORK/ref800.png" || fail "rt64k render failed"
+convert "$WORK/ref800.png" -filter point -resize "${pw}x${ph}!" "$ref"
+sleep 3  # the first frames
+for try in 1 2 3 4 5 6 7 8 9 10; do
+  import -window root "$WORK/shot.png" || fail "screenshot failed"
+  # The bounding box of everything not black: a 1-pixel black border first,
+  # so that -trim trims black and not, say, a uniform sky along the top.
+  geom=$(convert "$WORK/shot.png" -bordercolor black -border 1 -trim -format '%w %h %X %Y' info:)
+  read -r bw bh bx by <<<"${geom//+/}"
+  bx=$((bx - 1)); by=$((by - 1))
+  convert "$WORK/shot.png" -crop "${pw}x${ph}+${px}+${py}" +repage "$WORK/picture.png"
+  psnr=$(compare -metric PSNR "$WORK/picture.png" "$ref" null: 2>&1 | awk '{print $1}')
+  ok=$(awk -v p="$psnr" -v m=$kMinPsnr 'BEGIN {print (p == "inf" || p + 0 >= m) ? 1 : 0}')
+  [ "$ok" = 1 ] && [ "$bw $bh $bx $by" = "$pw $ph $px $py" ] && break
+  sleep 1
+done
+echo "non-black area: ${bw}x${bh}+${bx}+${by}; expected picture ${pw}x${ph}+${px}+${py} (aspect $((bw * 1000 / bh))/1000, 4:3 = 1333/1000); PSNR against the scaled render $psnr dB (limit $kMinPsnr)"
+[ "$bw $bh $bx $by" = "$pw $ph $px $py" ] || fail "the picture is not the centred 4:3 rectangle"
+[ $(((bw * 3 - bh * 4) * (bw * 3 - bh * 4))) -le $((4 * 4)) ] || fail "aspect ratio is not 4:3"
+[ "$ok" = 1 ] || fail "the picture differs from rt64k render scaled (PSNR $psnr dB)"
+intro_running || fail "intro.exe exited by itself"
+echo "PASS"

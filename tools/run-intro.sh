@@ -16,11 +16,14 @@ export WINEPREFIX=$PWD/build/wine-prefix-run WINEDEBUG=-all
 if [ ! -d "$WINEPREFIX" ]; then
   echo "creating a Wine prefix in $WINEPREFIX (once)"
   DISPLAY= "$wine" wineboot -i >/dev/null 2>&1 || true
+  fresh=1
 fi
 if [ -n "${DISPLAY:-}" ]; then
   exec "$wine" "$exe" "$@"
 fi
 seconds=${RT64K_SECONDS:-20}
+# A prefix made just now finishes setting up in the background first.
+[ -n "${fresh:-}" ] && seconds=$((seconds + 15))
 echo "no DISPLAY: running under Xvfb for $seconds s (a screenshot is taken at the end)"
 exec 3< <(Xvfb -displayfd 1 -screen 0 1024x768x24 -nolisten tcp 2>/dev/null)
 xvfb_pid=$!

@@ -107,3 +107,9 @@ row "without -Wl,--gc-sections (+ -lwinmm)" gc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--gc-sections)" -DRT64K_EXTRA_LIBS=winmm
 row "without --disable-reloc-section (relocations, ASLR on)" reloc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--disable-reloc-section -Wl,--disable-dynamicbase -Wl,--disable-high-entropy-va)"
+# Features (src/win32/switches.h), one switched off at a time.
+row "feature off: adaptive renderer (every pixel traced)" no_adaptive -DRT64K_FEATURES=RT64K_ADAPTIVE=0
+row "feature off: music (synth, waveOut, winmm, /mute)" no_music -DRT64K_FEATURES=RT64K_MUSIC=0
+row "feature off: /f fullscreen" no_fullscreen -DRT64K_FEATURES=RT64K_FULLSCREEN=0
+row "feature off: /once" no_once -DRT64K_FEATURES=RT64K_ONCE=0
+row "feature off: /log" no_log -DRT64K_FEATURES=RT64K_LOG=0

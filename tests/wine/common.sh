@@ -206,6 +206,16 @@ wait_exit() {
   INTRO_PID=
 }
 
+# Types Esc into the running intro; fails unless it exits within 1 s with code 0.
+escape_exits_cleanly() {
+  focus_window
+  local t0
+  t0=$(now_ms)
+  type_key Escape
+  wait_exit Escape 1000 "$t0"
+  [ "$EXIT_CODE" = 0 ] || fail "exit code $EXIT_CODE after Escape, expected 0"
+}
+
 # Resident set size of the intro's process in KiB (VmRSS), empty if gone.
 rss_kib() { awk '/^VmRSS:/ {print $2}' "/proc/$INTRO_PID/status" 2>/dev/null; }
 

@@ -11,9 +11,5 @@ launch_intro /t:12 /HOLD /t: /t:abc /t:1e5 /t:1.2.3 /t:--5 /t:nan /t:inf \
 wait_window
 match_render 12
 intro_running || fail "intro.exe exited by itself"
-focus_window
-t0=$(now_ms)
-type_key Escape
-wait_exit Escape 1000 "$t0"
-[ "$EXIT_CODE" = 0 ] || fail "exit code $EXIT_CODE after Escape, expected 0"
+escape_exits_cleanly
 echo "PASS"

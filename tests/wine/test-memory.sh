@@ -29,9 +29,5 @@ echo "VmRSS (KiB) each second: ${samples[*]}"
 echo "after ${kWarmupSeconds} s: $base KiB; max over the remaining $((kRunSeconds - kWarmupSeconds)) s:" \
   "$max KiB; growth $((max - base)) KiB (limit $kMaxGrowthKiB KiB)"
 [ $((max - base)) -le $kMaxGrowthKiB ] || fail "memory grew by $((max - base)) KiB"
-focus_window
-t0=$(now_ms)
-type_key Escape
-wait_exit Escape 1000 "$t0"
-[ "$EXIT_CODE" = 0 ] || fail "exit code $EXIT_CODE after Escape, expected 0"
+escape_exits_cleanly
 echo "PASS"

@@ -153,5 +153,16 @@ expect_usage_error "directory as path" render --time 1 --size 8x8 --out "$TMP"
 expect_usage_error "repeated option" render --time 1 --time 2 --out "$OUT"
 if [ -e "$OUT" ]; then fail "a rejected render wrote $OUT"; else pass; fi
 
+# Captions appear at their times in rendered frames (4 s: the title) and
+# nowhere else (9 s: no caption), and --overlay off leaves them out.
+for t in 4 9; do
+  "$RT64K" render --time $t --size 200x150 --mode full --out "$TMP/on-$t.png" &&
+    "$RT64K" render --time $t --size 200x150 --mode full --overlay off --out "$TMP/off-$t.png" ||
+    fail "render with/without captions at $t s"
+done
+if cmp -s "$TMP/on-4.png" "$TMP/off-4.png"; then fail "no caption drawn at 4 s"; else pass; fi
+if cmp -s "$TMP/on-9.png" "$TMP/off-9.png"; then pass; else fail "a caption drawn at 9 s"; fi
+expect_usage_error "bad overlay value" render --time 1 --overlay maybe --out "$OUT"
+
 echo "cli_test: $checks checks passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -4,7 +4,7 @@
 set -euo pipefail
 what=${1:-test}
 native=(g++ cmake make pkg-config libpng-dev libgtest-dev gnuplot-nox python3)
-windows=(g++-mingw-w64-x86-64 wine wine64 xvfb xdotool x11-utils imagemagick)
+windows=(g++-mingw-w64-x86-64 wine wine64 xvfb xdotool x11-utils imagemagick pulseaudio pulseaudio-utils)
 case "$what" in
   build) pkgs=("${native[@]}") ;;
   intro) pkgs=(cmake make g++ libpng-dev "${windows[@]}") ;;

@@ -9,9 +9,9 @@
 // Opens the default output device (44.1 kHz stereo 16-bit) and starts
 // playing `samples`, kAudioFrames stereo frames, over and over: one whole
 // loop of synth_render's music, which may begin anywhere in the loop (intro.exe
-// passes a window into two copies of the loop that starts at its /t: time). The samples must stay alive until audio_stop. False when there is no
-// device (waveOutOpen fails) or it refuses the buffer: then nothing plays and
-// the caller keeps its own clock.
+// passes a window into two copies of the loop that starts at its /t: time). The samples must stay
+// alive until audio_stop. False when there is no device (waveOutOpen fails) or it refuses the
+// buffer: then nothing plays and the caller keeps its own clock.
 bool audio_start(const short* samples);
 
 // Seconds of music played since audio_start, from waveOutGetPosition. Never

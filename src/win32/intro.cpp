@@ -13,9 +13,9 @@
 
 #include "adaptive.h"
 #include "audio.h"
-#include "switches.h"
 #include "overlay.h"
 #include "scenes.h"
+#include "switches.h"
 #include "synth.h"
 #include "text.h"
 
@@ -362,7 +362,7 @@ void log_frame(double t, double played, double wall) {
   windowClass.hbrBackground = (HBRUSH)GetStockObject(BLACK_BRUSH);
   windowClass.lpszClassName = kClassName;
   RegisterClassA(&windowClass);
-  RECT outer = {0, 0, screenW, screenH}; // the client area we want ...
+  RECT outer = {0, 0, screenW, screenH};  // the client area we want ...
   AdjustWindowRect(&outer, style, FALSE); // ... and the window around it
   HWND window = CreateWindowExA(0, kClassName, kWindowTitle, style | WS_VISIBLE, CW_USEDEFAULT,
                                 CW_USEDEFAULT, outer.right - outer.left, outer.bottom - outer.top,

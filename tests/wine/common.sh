@@ -234,27 +234,45 @@ readonly kMaxDifferentPixels=480
 readonly kMatchTimeoutSeconds=20
 readonly kQuantum16=257  # ImageMagick's 16-bit quantum per 8-bit step
 
+# render_ref TIME FILE: the reference frame at TIME, rendered by the native
+# tool with the exe's renderer options.
+render_ref() {
+  local -a renderArgs
+  read -r -a renderArgs <<<"${RT64K_RENDER_ARGS:-}"
+  "${RT64K_TOOL:?set by ctest}" render --time "$1" "${renderArgs[@]}" --out "$2" ||
+    fail "rt64k render --time $1 failed"
+}
+
+# same_frame SHOT REF: compares two 800x600 images; sets MAX_DIFF (of 255),
+# DIFF_PIXELS and PSNR; true when within kMaxChannelDiff and kMaxDifferentPixels.
+same_frame() {
+  local pae
+  pae=$(compare -metric PAE "$1" "$2" null: 2>&1 | awk '{print $1}')
+  MAX_DIFF=$(awk -v v="$pae" -v q=$kQuantum16 'BEGIN {printf "%d", v / q + 0.5}')
+  DIFF_PIXELS=$(compare -metric AE "$1" "$2" null: 2>&1 | awk '{printf "%d", $1}')
+  PSNR=$(compare -metric PSNR "$1" "$2" null: 2>&1 | awk '{print $1}')
+  [ "$MAX_DIFF" -le $kMaxChannelDiff ] && [ "$DIFF_PIXELS" -le $kMaxDifferentPixels ]
+}
+
+# screenshot_client FILE: the window's client area (800x600) from the screen.
+screenshot_client() {
+  window_geometry
+  [ "${WIN_W}x${WIN_H}" = 800x600 ] || fail "client area is ${WIN_W}x${WIN_H}, not 800x600"
+  import -window root -crop "${WIN_W}x${WIN_H}+${WIN_X}+${WIN_Y}" +repage "$1" ||
+    fail "import (screenshot) failed"
+}
+
 # match_render TIME: renders the reference frame at TIME with the native tool
 # and compares screenshots of the client area with it until one is within
 # the tolerance; prints the figures; fails at kMatchTimeoutSeconds.
 match_render() {
   local t="$1" ref="$WORK/ref-$1.png" shot="$WORK/shot-$1.png"
-  local -a renderArgs
-  read -r -a renderArgs <<<"${RT64K_RENDER_ARGS:-}"
-  "${RT64K_TOOL:?set by ctest}" render --time "$t" "${renderArgs[@]}" --out "$ref" ||
-    fail "rt64k render --time $t failed"
-  window_geometry
-  [ "${WIN_W}x${WIN_H}" = 800x600 ] || fail "client area is ${WIN_W}x${WIN_H}, not 800x600"
-  local t0 pae
+  render_ref "$t" "$ref"
+  local t0
   t0=$(now_ms)
   while :; do
-    import -window root -crop "${WIN_W}x${WIN_H}+${WIN_X}+${WIN_Y}" +repage "$shot" ||
-      fail "import (screenshot) failed"
-    pae=$(compare -metric PAE "$shot" "$ref" null: 2>&1 | awk '{print $1}')
-    MAX_DIFF=$(awk -v v="$pae" -v q=$kQuantum16 'BEGIN {printf "%d", v / q + 0.5}')
-    DIFF_PIXELS=$(compare -metric AE "$shot" "$ref" null: 2>&1 | awk '{printf "%d", $1}')
-    PSNR=$(compare -metric PSNR "$shot" "$ref" null: 2>&1 | awk '{print $1}')
-    if [ "$MAX_DIFF" -le $kMaxChannelDiff ] && [ "$DIFF_PIXELS" -le $kMaxDifferentPixels ]; then
+    screenshot_client "$shot"
+    if same_frame "$shot" "$ref"; then
       echo "t=$t s: screenshot vs rt64k render $RT64K_RENDER_ARGS: max channel diff $MAX_DIFF/255," \
         "$DIFF_PIXELS of 480000 pixels differ, PSNR $PSNR dB (limits: $kMaxChannelDiff," \
         "$kMaxDifferentPixels) after $(($(now_ms) - t0)) ms"
@@ -266,5 +284,54 @@ match_render() {
         "$DIFF_PIXELS pixels differ, PSNR $PSNR dB (see $WORK)"
     fi
     sleep 0.5
+  done
+}
+
+# /log, the intro's per-frame lines on stdout ($WORK/intro.out):
+#   t=T a=A w=W   T the time the frame shows, A the music's position the clock
+#   read (-1: not from the music), W seconds since just before the first frame.
+# log_lines: those lines, one "T A W" per frame, in order.
+log_lines() { tr -d '\r' <"$WORK/intro.out" | sed -n 's/^t=\([-0-9.]*\) a=\([-0-9.]*\) w=\([0-9.]*\)$/\1 \2 \3/p'; }
+log_count() { log_lines | wc -l; }
+
+# Frames the log may run ahead of the screen: a frame's line is written right
+# after its blit, so the frame on screen during a screenshot is one logged
+# from (lines before the screenshot) - kLogSlack on, up to the lines written
+# kLogSettleSeconds after it.
+readonly kLogSlack=2
+readonly kLogSettleSeconds=0.2
+
+# match_logged_frame: while the clock runs, a screenshot of the client area
+# must equal (within the tolerance above) rt64k render at one of the times
+# the log shows for the frames around the screenshot. Retried until
+# kMatchTimeoutSeconds (a screenshot can catch a blit half-done). Sets
+# MATCHED_T and MATCHED_A (that frame's music position).
+match_logged_frame() {
+  local shot="$WORK/shot-running.png" t0 before after line t a w
+  t0=$(now_ms)
+  while :; do
+    before=$(log_count)
+    screenshot_client "$shot"
+    sleep $kLogSettleSeconds
+    after=$(log_count)
+    local from=$((before - kLogSlack))
+    [ $from -ge 1 ] || from=1
+    local tried=""
+    while read -r t a w; do
+      [[ " $tried " == *" $t "* ]] && continue
+      tried+=" $t"
+      render_ref "$t" "$WORK/ref-running.png"
+      if same_frame "$shot" "$WORK/ref-running.png"; then
+        MATCHED_T=$t
+        MATCHED_A=$a
+        echo "running: the screenshot is the frame logged at t=$t (a=$a, w=$w): max channel" \
+          "diff $MAX_DIFF/255, $DIFF_PIXELS pixels differ, PSNR $PSNR dB; candidates:$tried" \
+          "(log lines $from-$after)"
+        return 0
+      fi
+    done < <(log_lines | sed -n "${from},${after}p")
+    if [ $(($(now_ms) - t0)) -gt $((kMatchTimeoutSeconds * 1000)) ]; then
+      fail "the screenshot is none of the logged frames (tried t =$tried; see $WORK)"
+    fi
   done
 }

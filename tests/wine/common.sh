@@ -145,6 +145,11 @@ setup() {
   rm -rf "$WORK"
   mkdir -p "$WORK"
   cp "$RT64K_INTRO_EXE" "$WORK/intro.exe"
+  # No PulseAudio for Wine unless a test starts its own (test-audio.sh): a
+  # server given by name that does not exist also keeps libpulse from
+  # autospawning a daemon for the user that would outlive the test. Wine then
+  # tries ALSA (no card here: no sound device; on a desktop, its card).
+  export PULSE_SERVER="unix:$WORK/no-such-pulse-server"
   prepare_prefix
   start_xvfb
 }

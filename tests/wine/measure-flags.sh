@@ -91,8 +91,9 @@ row() {
 row "shipped (src/win32 -Os, core -O2 as in flags.cmake)" shipped
 row "src/win32 at -O2 instead of -Os" win32_O2 -DRT64K_WIN32_OPT=-O2
 row "core (src/core, scenes) at -Os instead of -O2" core_Os -DRT64K_CORE_EXTRA=-Os
-# Unwind tables (.pdata) and no --gc-sections keep every function alive,
-# src/win32/audio.cpp's too, which then needs winmm to link.
+# Unwind tables (.pdata) and no --gc-sections keep every function alive.
+# (winmm is linked anyway since the music plays; -lwinmm is kept for builds
+# with RT64K_MUSIC=0, where audio.cpp is left out.)
 row "without -fno-asynchronous-unwind-tables -fno-unwind-tables (+ -lwinmm)" unwind \
   "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-asynchronous-unwind-tables -fno-unwind-tables)" \
   -DRT64K_EXTRA_LIBS=winmm
@@ -111,5 +112,6 @@ row "without --disable-reloc-section (relocations, ASLR on)" reloc \
 row "feature off: adaptive renderer (every pixel traced)" no_adaptive -DRT64K_FEATURES=RT64K_ADAPTIVE=0
 row "feature off: music (synth, waveOut, winmm, /mute)" no_music -DRT64K_FEATURES=RT64K_MUSIC=0
 row "feature off: /f fullscreen" no_fullscreen -DRT64K_FEATURES=RT64K_FULLSCREEN=0
+row "feature off: /mute (music kept)" no_mute -DRT64K_FEATURES=RT64K_MUTE=0
 row "feature off: /once" no_once -DRT64K_FEATURES=RT64K_ONCE=0
 row "feature off: /log" no_log -DRT64K_FEATURES=RT64K_LOG=0

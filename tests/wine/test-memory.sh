@@ -5,9 +5,10 @@
 # the framebuffer and stacks); after that, no sample may exceed the one at
 # the end of the warm-up by more than kMaxGrowthKiB. The intro allocates
 # everything once, before the first frame (measured: VmRSS flat to the KiB
-# from 3 s on), so any growth is a per-frame leak: at the ~5 fps of a full
-# trace on 2 cores, 50 s are ~250 frames, and 256 KiB catches a leak of
-# 1 KiB per frame (a GDI object or a heap block per frame is far more).
+# from the first sample on), so any growth is a per-frame leak: at the
+# ~40 fps of the adaptive renderer on 2 cores, 50 s are ~2,000 frames, and
+# 256 KiB catches a leak of 128 bytes per frame (a GDI object or a heap block
+# per frame is more).
 source "$(dirname "$0")/common.sh"
 readonly kRunSeconds=60
 readonly kWarmupSeconds=10

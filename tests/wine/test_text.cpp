@@ -32,6 +32,10 @@ TEST(CommandLine, NullAndEmptyGiveDefaults) {
     EXPECT_EQ(o.startSeconds, 0.0);
     EXPECT_FALSE(o.hold);
     EXPECT_FALSE(o.bench);
+    EXPECT_FALSE(o.fullscreen);
+    EXPECT_FALSE(o.once);
+    EXPECT_FALSE(o.mute);
+    EXPECT_FALSE(o.log);
   }
 }
 
@@ -46,6 +50,32 @@ TEST(CommandLine, Options) {
   EXPECT_TRUE(o.bench);
   o = parse("intro.exe /t:-3.25");
   EXPECT_EQ(o.startSeconds, -3.25);
+}
+
+TEST(CommandLine, DemopartySwitches) {
+  IntroOptions o = parse("intro.exe /f /once /mute /log");
+  EXPECT_TRUE(o.fullscreen);
+  EXPECT_TRUE(o.once);
+  EXPECT_TRUE(o.mute);
+  EXPECT_TRUE(o.log);
+  EXPECT_FALSE(o.hold);
+  EXPECT_FALSE(o.bench);
+  EXPECT_EQ(o.startSeconds, 0.0);
+  o = parse("intro.exe -F\t/ONCE /t:60");
+  EXPECT_TRUE(o.fullscreen);
+  EXPECT_TRUE(o.once);
+  EXPECT_FALSE(o.mute);
+  EXPECT_FALSE(o.log);
+  EXPECT_EQ(o.startSeconds, 60.0);
+  // Near misses are unknown options, ignored.
+  for (const char* j : {"/fs", "/full", "/f:", "f", "/oncex", "/on", "/muted", "/mut", "/logx",
+                        "/lo", "/f/once", "/once/mute"}) {
+    o = parse(std::string("intro.exe ") + j);
+    EXPECT_FALSE(o.fullscreen) << j;
+    EXPECT_FALSE(o.once) << j;
+    EXPECT_FALSE(o.mute) << j;
+    EXPECT_FALSE(o.log) << j;
+  }
 }
 
 TEST(CommandLine, ProgramNameIsSkipped) {
@@ -147,8 +177,9 @@ TEST(ParseSeconds, EdgeCases) {
 // and whatever it returns is a valid option set.
 TEST(CommandLine, RandomBytesAreSafe) {
   std::mt19937 rng(4);
-  std::uniform_int_distribution<int> len(0, 300), byte(1, 255), pick(0, 9);
-  const char* pieces[] = {"/t:", "/hold", "/bench", " ", "\t", "\"", "-", ".", "9", "/T:1"};
+  std::uniform_int_distribution<int> len(0, 300), byte(1, 255), pick(0, 13);
+  const char* pieces[] = {"/t:", "/hold", "/bench", " ",  "\t",    "\"",    "-",
+                          ".",   "9",     "/T:1",   "/f", "/once", "/mute", "/log"};
   for (int i = 0; i < 100000; ++i) {
     std::string s;
     int n = len(rng);

@@ -296,7 +296,7 @@ bool OutputFile::open(const std::string& path, std::string& error) {
   path_ = path;
   errno_ = 0;
   const char* stop = std::getenv("RT64K_TEST_STOP_IN_WRITE");
-  stopPending_ = stop && *stop;
+  stopPending_ = stop && path == stop;
   Target t;
   if (!resolve(path, t, error)) return false;
   if (t.stream) {

@@ -19,6 +19,9 @@
 //   signal. SIGXFSZ is ignored, so a write over `ulimit -f` fails with EFBIG
 //   and is reported. SIGKILL cannot be caught: it leaves the old file intact
 //   and a temporary behind.
+// - Tests: with RT64K_TEST_STOP_IN_WRITE set to an output's path (as given),
+//   the tool stops itself (SIGSTOP) once that output's temporary holds data
+//   and before it replaces the target, so a test can kill it mid-write.
 #pragma once
 #include <cstdio>
 #include <string>
@@ -77,7 +80,7 @@ private:
   int slot_ = -1; // entry in the signal handler's list
   std::FILE* stream_ = nullptr;
   int errno_ = 0;            // first failed write
-  bool stopPending_ = false; // RT64K_TEST_STOP_IN_WRITE (tests)
+  bool stopPending_ = false; // RT64K_TEST_STOP_IN_WRITE names this path (tests)
 };
 
 // Flushes and closes stdout. On failure prints one line naming the cause and

@@ -81,18 +81,27 @@ std::string last_error_line(int fd) {
   return "";
 }
 
-// A complete PNG: the signature first and the IEND chunk last. Streams
-// (/dev/null, a pipe) cannot be read back and are taken as written.
-bool complete_png(int fd) {
-  struct stat st;
-  if (fstat(fd, &st) != 0) return false;
-  if (!S_ISREG(st.st_mode)) return true;
-  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  static const unsigned char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
-  unsigned char head[8], tail[12];
-  return st.st_size >= 8 + 12 && pread(fd, head, 8, 0) == 8 &&
-         std::memcmp(head, kSignature, 8) == 0 && pread(fd, tail, 12, st.st_size - 12) == 12 &&
-         std::memcmp(tail, kIend, 12) == 0;
+// Everything in `fd` from offset 0 (at most 256 MiB: a plot is ~30 KB).
+bool read_all(int fd, std::string& text) {
+  text.clear();
+  if (lseek(fd, 0, SEEK_SET) != 0) return false;
+  char buf[65536];
+  for (;;) {
+    ssize_t n = read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return false;
+    if (n == 0) return true;
+    text.append(buf, size_t(n));
+    if (text.size() > (size_t(256) << 20)) return false;
+  }
+}
+
+// A complete PNG: the signature first and the IEND chunk last.
+bool complete_png(const std::string& png) {
+  static const char kSignature[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+  static const char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', '\xae', '\x42', '\x60', '\x82'};
+  return png.size() >= 8 + 12 && png.compare(0, 8, kSignature, 8) == 0 &&
+         png.compare(png.size() - 12, 12, kIend, 12) == 0;
 }
 
 } // namespace
@@ -134,7 +143,7 @@ bool plot_script(const std::vector<PlotPoint>& points, const PlotTitle& title,
                 "(%d frames, %d threads)'\n",
                 title.width, title.height, title.frames, title.threads);
   script = buf;
-  // No `set output`: pngcairo writes to stdout, the OutputFile's descriptor.
+  // No `set output`: pngcairo writes to stdout, a memory file.
   script += "set xlabel 'median ms per frame (log scale)'\n"
             "set ylabel 'PSNR against full trace, dB (99 = identical)'\n"
             "set logscale x\nset grid\nset key bottom right\n"
@@ -167,14 +176,13 @@ bool draw_plot(const std::string& gnuplot, const std::string& path,
   // dup2s below must not overwrite one another.
   Fd scriptFd(memory_file("rt64k-plot-script", script));
   Fd errFd(memory_file("rt64k-gnuplot-stderr", ""));
-  if (scriptFd.fd < 0 || errFd.fd < 0) {
+  Fd pngFd(memory_file("rt64k-plot-png", ""));
+  if (scriptFd.fd < 0 || errFd.fd < 0 || pngFd.fd < 0) {
     error = std::string("cannot draw the plot: memfd_create: ") + std::strerror(errno);
     return false;
   }
   Fd script3(fcntl(scriptFd.fd, F_DUPFD_CLOEXEC, 3)), err3(fcntl(errFd.fd, F_DUPFD_CLOEXEC, 3));
-  OutputFile out;
-  if (!out.open(path, error)) return false;
-  Fd out3(fcntl(out.fd(), F_DUPFD_CLOEXEC, 3));
+  Fd out3(fcntl(pngFd.fd, F_DUPFD_CLOEXEC, 3));
   if (script3.fd < 0 || err3.fd < 0 || out3.fd < 0) {
     error = std::string("cannot draw the plot: ") + std::strerror(errno);
     return false;
@@ -225,10 +233,15 @@ bool draw_plot(const std::string& gnuplot, const std::string& path,
             (said.empty() ? std::string(")") : "): " + said) + "; no plot written";
     return false;
   }
-  if (!complete_png(out.fd())) {
+  std::string png;
+  if (!read_all(pngFd.fd, png) || !complete_png(png)) {
     error = "gnuplot wrote no complete PNG" + (said.empty() ? std::string() : ": " + said) +
             "; no plot written";
     return false;
   }
+  // Only a whole PNG reaches the output, through checked writes.
+  OutputFile out;
+  if (!out.open(path, error)) return false;
+  std::fwrite(png.data(), 1, png.size(), out.stream());
   return out.commit(error);
 }

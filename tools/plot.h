@@ -2,12 +2,13 @@
 // with no shell and no user string in anything gnuplot reads.
 //
 // gnuplot is started with an argument vector ("gnuplot", nothing else) by
-// posix_spawn; its script comes on stdin from an anonymous memory file, the
-// points are inline in the script (a datablock), and the PNG comes out on its
-// stdout, which is the OutputFile's descriptor (a temporary renamed over the
-// target when the PNG is complete). So no path, quote, semicolon or newline
-// the user gave reaches gnuplot's parser, and gnuplot's own special names
-// ('<cmd', '|cmd') are never used.
+// posix_spawn; its script comes on stdin from an anonymous memory file
+// (memfd), the points are inline in the script (a datablock), and the PNG
+// comes out on its stdout, another memory file. Only a complete PNG (signature
+// first, IEND last) is then written to the output, whole or not at all
+// (output.h), every write checked. So no path, quote, semicolon or newline the
+// user gave reaches gnuplot, gnuplot's special names ('<cmd', '|cmd') are
+// never used, and gnuplot never touches the output.
 #pragma once
 #include <string>
 #include <vector>

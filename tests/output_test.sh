@@ -135,6 +135,26 @@ for kind in render sheet audio csv plot; do
     fi
   done
 done
+# The issue's two injections at once, through the real gnuplot: a --csv name
+# that broke out of the shell command, a --plot name that broke out of the
+# gnuplot script.
+# hostile_pair CSV PNG: both land under their names, whole, and nothing runs.
+hostile_pair() {
+  d=$TMP/hostile
+  rm -rf "$d" && mkdir "$d"
+  # shellcheck disable=SC2086
+  if ! (cd "$d" && "$RT64K" $BENCH --csv "$1" --plot "$2" >/dev/null 2>"$TMP/err" </dev/null); then
+    fail "bench with hostile --csv and --plot: $(tail -1 "$TMP/err")"
+  elif ! only_names "$d" "$1" "$2"; then
+    fail "bench with hostile --csv and --plot: folder holds $(ls -A "$d" | tr '\n' '/')"
+  elif ! valid csv "$d/$1" || ! valid plot "$d/$2"; then
+    fail "bench with hostile --csv and --plot: outputs not whole"
+  else
+    pass
+  fi
+}
+hostile_pair "x';touch CANARY;'.csv" "p'; system('touch CANARY'); print '.png"
+hostile_pair "$ALL_IN_ONE.csv" "$ALL_IN_ONE.png"
 [ -e CANARY ] && fail "a CANARY appeared in $(pwd)"
 
 # ---- 2. a write over the file-size limit ----------------------------------

@@ -247,6 +247,26 @@ for case_ in render:TERM render:INT render:HUP sheet:TERM audio:TERM audio:INT c
   fi
 done
 
+# Interrupted while measuring (3 s of CPU at least): the CSV's temporary,
+# open since the start, goes; the old CSV stays.
+d=$TMP/midbench
+mkdir "$d"
+cp "$TMP/old/csv" "$d/target"
+env --default-signal=INT "$RT64K" bench --step 0.25 --size 160x120 --modes full --scaling off \
+  --threads 1 --csv "$d/target" >/dev/null 2>&1 &
+pid=$!
+sleep 0.5
+temps=$(ls -A "$d" | grep -c '^\.target\.rt64k-')
+kill -INT $pid
+wait $pid
+code=$?
+if [ "$temps" -eq 1 ] && [ $code -eq 130 ] && cmp -s "$d/target" "$TMP/old/csv" &&
+  only_names "$d" target; then
+  pass
+else
+  fail "bench interrupted mid-run: $temps temporaries, exit $code, left $(ls -A "$d" | tr '\n' ' ')"
+fi
+
 # Kills at arbitrary moments (audio: 0.1 to 1.5 s spans its synth and its
 # 11-MB write): the target is always the old file or a whole new one, and no
 # temporary stays.

@@ -4,8 +4,10 @@
 # Checks: --help exits 0; render writes a valid PNG of the requested size
 # (signature, chunk CRCs, IHDR, inflated scanlines); scene prints valid JSON
 # with camera, lights and objects; every bad argument gives exactly one line
-# on stderr, nothing on stdout, and exit code 2. Needs python3 (PNG and JSON
-# checks use only its standard library).
+# on stderr, nothing on stdout, and exit code 2; control characters and bytes
+# that are not UTF-8 in an argument come back escaped in that line; finite
+# denormal times are accepted. Needs python3 (PNG and JSON checks use only its
+# standard library). Output files: tests/output_test.sh.
 set -u
 RT64K=${1:?usage: cli_test.sh path/to/rt64k}
 TMP=$(mktemp -d)
@@ -163,6 +165,56 @@ done
 if cmp -s "$TMP/on-4.png" "$TMP/off-4.png"; then fail "no caption drawn at 4 s"; else pass; fi
 if cmp -s "$TMP/on-9.png" "$TMP/off-9.png"; then pass; else fail "a caption drawn at 9 s"; fi
 expect_usage_error "bad overlay value" render --time 1 --overlay maybe --out "$OUT"
+
+# Finite denormal and underflowing times are times: 1e-310 is kept as given,
+# 1e-400 rounds to 0.
+for t in 1e-310 -1e-310 1e-400; do
+  if "$RT64K" scene --time "$t" >"$TMP/scene.json" 2>"$TMP/err" &&
+    python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); sys.exit(s["time"] != float(sys.argv[2]))' \
+      "$TMP/scene.json" "$t"; then
+    pass
+  else
+    fail "scene --time $t: not accepted as the time it is ($(cat "$TMP/err"))"
+  fi
+done
+rm -f "$TMP/tiny.png"
+if "$RT64K" render --time 1e-310 --size 8x6 --out "$TMP/tiny.png" && png_ok "$TMP/tiny.png" 8 6; then
+  pass
+else
+  fail "render --time 1e-310"
+fi
+
+# Control characters in an argument are escaped in the one error line.
+expect_usage_error "newline in a time" scene --time "1
+2"
+if grep -qF "'1\\n2'" "$TMP/err"; then pass; else fail "newline not escaped"; fi
+esc=$(printf '\033]0;title\007\033[31mred')
+expect_usage_error "escape sequences in an option" render --time 1 --out "$OUT" "$esc" 1
+if grep -qF "'\\x1b]0;title\\x07\\x1b[31mred'" "$TMP/err" && ! grep -q "$(printf '\033')" "$TMP/err"; then
+  pass
+else
+  fail "escape sequence not escaped: $(od -c "$TMP/err" | head -3)"
+fi
+expect_usage_error "carriage return and tab in a view" render --time 1 --out "$OUT" --view "$(printf 'a\rb\tc')"
+if grep -qF "'a\\rb\\tc'" "$TMP/err"; then pass; else fail "CR/tab not escaped"; fi
+# UTF-8 text is kept; a byte that is not UTF-8, and a C1 control, are escaped.
+expect_usage_error "UTF-8 and bad bytes" scene --time "$(printf 'caf\303\251\377\302\233')"
+if grep -qF "'caf$(printf '\303\251')\\xff\\xc2\\x9b'" "$TMP/err"; then pass; else
+  fail "UTF-8 handling: $(od -c "$TMP/err" | head -3)"
+fi
+
+# audio: a repeated --out is refused like the other commands' repeats, and
+# neither file is written.
+expect_usage_error "repeated --out (audio)" audio --out "$TMP/a1.wav" --out "$TMP/a2.wav"
+if grep -q "given twice" "$TMP/err" && [ ! -e "$TMP/a1.wav" ] && [ ! -e "$TMP/a2.wav" ]; then
+  pass
+else
+  fail "audio --out twice: $(cat "$TMP/err")"
+fi
+expect_usage_error "repeated --out (sheet)" sheet --out "$TMP/s1.png" --out "$TMP/s2.png"
+expect_usage_error "repeated --csv (bench)" bench --csv "$TMP/b1.csv" --csv "$TMP/b2.csv"
+expect_usage_error "audio without a value" audio --out
+expect_usage_error "audio, unknown option" audio --out "$TMP/a.wav" --rate 8000
 
 echo "cli_test: $checks checks passed, $failures failed"
 [ "$failures" -eq 0 ]

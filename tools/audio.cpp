@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "output.h"
 #include "synth.h"
 
 namespace {
@@ -22,7 +23,8 @@ void put32(std::string& s, uint32_t v) {
 
 } // namespace
 
-bool write_wav(const std::string& path, const std::vector<short>& stereo, int rate) {
+bool write_wav(const std::string& path, const std::vector<short>& stereo, int rate,
+               std::string& error) {
   uint32_t dataBytes = (uint32_t)(stereo.size() * 2);
   std::string h = "RIFF";
   put32(h, 36 + dataBytes);
@@ -40,46 +42,52 @@ bool write_wav(const std::string& path, const std::vector<short>& stereo, int ra
   body.reserve(dataBytes);
   for (short v : stereo)
     put16(body, (uint16_t)v); // little-endian on any host
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return false;
-  bool ok = std::fwrite(h.data(), 1, h.size(), f) == h.size() &&
-            std::fwrite(body.data(), 1, body.size(), f) == body.size();
-  ok = (std::fclose(f) == 0) && ok;
-  return ok;
+  OutputFile out;
+  if (!out.open(path, error)) return false;
+  std::fwrite(h.data(), 1, h.size(), out.stream());
+  std::fwrite(body.data(), 1, body.size(), out.stream());
+  return out.commit(error); // any failed write above is reported here
 }
 
 int cmd_audio(int argc, char** argv) {
+  const std::string usage = " (usage: rt64k audio --out FILE.wav)";
   std::string out;
+  bool haveOut = false;
   for (int i = 2; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "--out" && i + 1 < argc && out.empty()) {
+    if (a == "--out" && haveOut) {
+      report_error("audio: option --out given twice" + usage);
+      return 2;
+    } else if (a == "--out" && i + 1 < argc) {
       out = argv[++i];
+      haveOut = true;
+    } else if (a == "--out") {
+      report_error("audio: option --out needs a value" + usage);
+      return 2;
     } else {
-      std::fprintf(stderr, "rt64k audio: bad argument '%s' (usage: rt64k audio --out FILE.wav)\n",
-                   a.c_str());
+      report_error("audio: unknown option '" + a + "'" + usage);
       return 2;
     }
   }
-  if (out.empty()) {
-    std::fprintf(
-        stderr, "rt64k audio: missing required option --out (usage: rt64k audio --out FILE.wav)\n");
+  if (!haveOut) {
+    report_error("audio: missing required option --out" + usage);
     return 2;
   }
-  // Fail before the render if the path cannot be written.
-  FILE* probe = std::fopen(out.c_str(), "wb");
-  if (!probe) {
-    std::fprintf(stderr, "rt64k audio: cannot write '%s'\n", out.c_str());
+  // Fail before the render if the path cannot be written; the file itself is
+  // not touched until the samples are ready (output.h).
+  std::string error;
+  if (!check_output_path(out, error)) {
+    report_error("audio: " + error);
     return 2;
   }
-  std::fclose(probe);
   std::vector<short> samples((size_t)kAudioFrames * 2);
   std::vector<float> scratch(kSynthScratchFloats);
   auto t0 = std::chrono::steady_clock::now();
   SynthReport rep = synth_render(samples.data(), scratch.data());
   double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (!write_wav(out, samples, kAudioRate)) {
-    std::fprintf(stderr, "rt64k audio: cannot write '%s'\n", out.c_str());
+  if (!write_wav(out, samples, kAudioRate, error)) {
+    report_error("audio: " + error);
     return 2;
   }
   double sum = 0;
@@ -87,7 +95,7 @@ int cmd_audio(int argc, char** argv) {
     sum += (double)v * v;
   double rms = std::sqrt(sum / (double)samples.size()) / 32767.0;
   std::printf("%s: %d s, %d Hz stereo 16-bit; peak %.2f dBFS, RMS %.2f dBFS; rendered in %.0f ms\n",
-              out.c_str(), kAudioSeconds, kAudioRate, 20 * std::log10(rep.peak),
+              printable(out).c_str(), kAudioSeconds, kAudioRate, 20 * std::log10(rep.peak),
               20 * std::log10(rms), ms);
   return 0;
 }

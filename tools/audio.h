@@ -9,6 +9,7 @@
 // output that cannot be written (one line on stderr).
 int cmd_audio(int argc, char** argv);
 
-// Writes interleaved stereo 16-bit samples as a RIFF WAVE file; false if the
-// file cannot be written.
-bool write_wav(const std::string& path, const std::vector<short>& stereo, int rate);
+// Writes interleaved stereo 16-bit samples as a RIFF WAVE file, whole or not
+// at all (output.h); false with a one-line `error` if it cannot be written.
+bool write_wav(const std::string& path, const std::vector<short>& stereo, int rate,
+               std::string& error);

@@ -8,6 +8,11 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
+#include "output.h"
+#include "plot.h"
+
 namespace {
 
 // Error of `img` against the every-pixel reference.
@@ -63,6 +68,47 @@ double now_ms() {
   return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
 }
 
+// ---- output writing: paths checked up front, CSV and plot whole or not at all
+
+// Every output path and gnuplot (with --plot), checked before the bench runs.
+bool check_bench_outputs(const BenchOptions& o, std::string& gnuplot, std::string& error) {
+  if (!check_output_path(o.csvPath, error)) {
+    error = "--csv: " + error;
+    return false;
+  }
+  if (o.plotPath.empty()) return true;
+  if (!check_output_path(o.plotPath, error)) {
+    error = "--plot: " + error;
+    return false;
+  }
+  struct stat a, b;
+  if (o.plotPath == o.csvPath ||
+      (stat(o.csvPath.c_str(), &a) == 0 && stat(o.plotPath.c_str(), &b) == 0 &&
+       a.st_dev == b.st_dev && a.st_ino == b.st_ino)) {
+    error = "--csv and --plot name the same file '" + o.csvPath + "'";
+    return false;
+  }
+  return find_gnuplot(gnuplot, error);
+}
+
+// The plot of median ms against min and median PSNR, one point per mode.
+int write_bench_plot(const BenchOptions& o, const std::string& gnuplot, int frames,
+                     const std::vector<ModeResult>& results) {
+  std::vector<PlotPoint> points;
+  for (size_t m = 0; m < o.modes.size(); ++m)
+    points.push_back(PlotPoint{o.modes[m].name, percentile(results[m].ms, 0.5),
+                               *std::min_element(results[m].psnr.begin(), results[m].psnr.end()),
+                               percentile(results[m].psnr, 0.5), percentile(results[m].ms, 0.95)});
+  std::string error;
+  if (!draw_plot(gnuplot, o.plotPath, points, PlotTitle{o.width, o.height, frames, o.threads},
+                 error)) {
+    report_error(error);
+    return 2;
+  }
+  std::printf("plot: %s\n", printable(o.plotPath).c_str());
+  return 0;
+}
+
 }  // namespace
 
 bool parse_bench_mode(const std::string& text, BenchMode& out) {
@@ -90,11 +136,13 @@ int run_bench(const BenchOptions& o) {
   const std::vector<BenchMode>& specs = o.modes;
   int frames = int(std::floor(kTimelineSeconds / o.step + 1e-9));
   std::vector<ModeResult> results(specs.size());
-  std::FILE* csv = std::fopen(o.csvPath.c_str(), "w");
-  if (!csv) {
-    std::fprintf(stderr, "rt64k: cannot write '%s'\n", o.csvPath.c_str());
+  std::string gnuplot, error;
+  OutputFile csvOut;
+  if (!check_bench_outputs(o, gnuplot, error) || !csvOut.open(o.csvPath, error)) {
+    report_error(error);
     return 2;
   }
+  std::FILE* csv = csvOut.stream();
   std::fprintf(csv, "time,mode,ms,ms_1thread,psnr_db,max_error,off_percent,primary,secondary,shadow\n");
   Image ref(o.width, o.height), img(o.width, o.height);
   std::vector<uint8_t> kinds(size_t(o.width) * size_t(o.height));
@@ -145,8 +193,12 @@ int run_bench(const BenchOptions& o) {
     if (o.progress && (f % 8 == 7 || f + 1 == frames))
       std::fprintf(stderr, "bench: frame %d/%d (t = %.2f s), %.0f s elapsed\n", f + 1, frames, t,
                    (now_ms() - started) / 1000);
+    if (csvOut.failed()) break; // reported by commit: no use measuring on
   }
-  std::fclose(csv);
+  if (!csvOut.commit(error)) {
+    report_error(error);
+    return 2;
+  }
 
   double pixels = double(o.width) * o.height * frames;
   double fullMedian = 0;
@@ -181,51 +233,8 @@ int run_bench(const BenchOptions& o) {
                 fmt(percentile(r.psnr, 0.5), 2).c_str(), r.maxError, fmt(offMean, 3).c_str(),
                 kindsText.c_str());
   }
-  std::printf("\nCSV: %s\n", o.csvPath.c_str());
+  std::printf("\nCSV: %s\n", printable(o.csvPath).c_str());
 
-  if (!o.plotPath.empty()) {
-    // ms/frame against error: one point per mode (median ms, min and median
-    // PSNR), drawn by gnuplot from a data file next to the CSV.
-    std::string dat = o.csvPath + ".plot.dat";
-    std::FILE* d = std::fopen(dat.c_str(), "w");
-    if (!d) {
-      std::fprintf(stderr, "rt64k: cannot write '%s'\n", dat.c_str());
-      return 2;
-    }
-    for (size_t m = 0; m < specs.size(); ++m) {
-      double minP = *std::min_element(results[m].psnr.begin(), results[m].psnr.end());
-      double medP = percentile(results[m].psnr, 0.5);
-      std::fprintf(d, "\"%s\" %.4f %.3f %.3f %.4f\n", specs[m].name.c_str(),
-                   percentile(results[m].ms, 0.5), std::isinf(minP) ? 99.0 : minP,
-                   std::isinf(medP) ? 99.0 : medP, percentile(results[m].ms, 0.95));
-    }
-    std::fclose(d);
-    std::string script = o.csvPath + ".plot.gp";
-    std::FILE* g = std::fopen(script.c_str(), "w");
-    if (!g) {
-      std::fprintf(stderr, "rt64k: cannot write '%s'\n", script.c_str());
-      return 2;
-    }
-    std::fprintf(g,
-                 "set terminal pngcairo size 900,600 font 'sans,11'\n"
-                 "set output '%s'\n"
-                 "set title 'rt64k: ms per %dx%d frame against error vs every-pixel trace "
-                 "(%d frames, %d threads)'\n"
-                 "set xlabel 'median ms per frame (log scale)'\n"
-                 "set ylabel 'PSNR against full trace, dB (99 = identical)'\n"
-                 "set logscale x\nset grid\nset key bottom right\n"
-                 "set arrow from graph 0, first 40 to graph 1, first 40 nohead dt 2 lc rgb '#c00000'\n"
-                 "plot '%s' using 2:4:1 with labels offset 0,1 notitle, \\\n"
-                 "     '' using 2:4 with points pt 7 ps 1.5 title 'median PSNR', \\\n"
-                 "     '' using 2:3 with points pt 5 ps 1.2 title 'min PSNR'\n",
-                 o.plotPath.c_str(), o.width, o.height, frames, o.threads, dat.c_str());
-    std::fclose(g);
-    std::string cmd = "gnuplot '" + script + "'";
-    if (std::system(cmd.c_str()) != 0) {
-      std::fprintf(stderr, "rt64k: gnuplot failed (apt-get install gnuplot-nox); no plot drawn\n");
-      return 2;
-    }
-    std::printf("plot: %s\n", o.plotPath.c_str());
-  }
+  if (!o.plotPath.empty()) return write_bench_plot(o, gnuplot, frames, results);
   return 0;
 }

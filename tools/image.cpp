@@ -3,6 +3,8 @@
 
 #include <png.h>
 
+#include "output.h"
+
 bool write_png(const std::string& path, const Image& img, std::string& error) {
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
@@ -16,11 +18,14 @@ bool write_png(const std::string& path, const Image& img, std::string& error) {
     rgb[3 * i + 1] = uint8_t(p >> 8);
     rgb[3 * i + 2] = uint8_t(p);
   }
-  if (!png_image_write_to_file(&png, path.c_str(), 0, rgb.data(), 0, nullptr)) {
+  OutputFile out;
+  if (!out.open(path, error)) return false;
+  // Through our own stream: libpng's write-to-file removes its path on error.
+  if (!png_image_write_to_stdio(&png, out.stream(), 0, rgb.data(), 0, nullptr) && !out.failed()) {
     error = "cannot write PNG '" + path + "': " + png.message;
-    return false;
+    return false; // `out` removes its temporary
   }
-  return true;
+  return out.commit(error); // a failed write: the cause (errno) is reported here
 }
 
 bool read_png(const std::string& path, Image& img, std::string& error) {

@@ -13,7 +13,8 @@ struct Image {
   uint32_t at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-// Writes an 8-bit RGB PNG. On failure returns false and sets `error`.
+// Writes an 8-bit RGB PNG whole or not at all (output.h). On failure returns
+// false and sets `error` (one line).
 bool write_png(const std::string& path, const Image& img, std::string& error);
 // Reads an 8-bit RGB or RGBA PNG (any format libpng can expand to RGB8).
 bool read_png(const std::string& path, Image& img, std::string& error);

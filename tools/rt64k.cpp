@@ -10,8 +10,9 @@
 
 #include "audio.h"
 #include "bench.h"
-#include "overlay.h"
 #include "frame.h"
+#include "output.h"
+#include "overlay.h"
 
 namespace {
 
@@ -32,13 +33,15 @@ const char* kUsage =
     "      renders the timeline every S seconds (default 0.25: 256 frames) in each mode\n"
     "      (default full,copy8,adaptive4,adaptive8,adaptive16) and prints a Markdown table\n"
     "      of ms/frame, rays/pixel and error against the full trace; writes CSV (default\n"
-    "      bench.csv) and, with --plot, a PNG of ms/frame against PSNR (needs gnuplot)\n"
+    "      bench.csv) and, with --plot, a PNG of ms/frame against PSNR (drawn by gnuplot)\n"
     "  rt64k audio --out FILE.wav\n"
     "      the intro's 64-s music loop, sample for sample what intro.exe plays\n"
     "  rt64k --help\n"
     "\n"
     "defaults: --size 800x600, --view color, --mode adaptive, --block 8, --threads = all cores\n"
-    "exit codes: 0 ok, 2 bad arguments or output not writable\n";
+    "exit codes: 0 ok, 2 bad arguments or output not writable\n"
+    "outputs: a file appears whole or not at all (written beside it, then renamed\n"
+    "over it); a device or pipe (/dev/null, /dev/stdout) is written in place\n";
 
 struct UsageError {
   std::string message;
@@ -78,8 +81,8 @@ double parse_time(const std::string& text) {
   errno = 0;
   double t = std::strtod(s, &end);
   if (text.empty() || *end != '\0' || end == s) fail("--time: '" + text + "' is not a number");
-  if (!std::isfinite(t) || errno == ERANGE)
-    fail("--time: '" + text + "' is not a finite number");
+  // Overflow gives +-inf; underflow (ERANGE with a denormal or 0) is a finite time.
+  if (!std::isfinite(t)) fail("--time: '" + text + "' is not a finite number");
   return t;
 }
 
@@ -114,6 +117,12 @@ void save(const std::string& path, const Image& img) {
   if (!write_png(path, img, error)) fail(error);
 }
 
+// An output path that cannot be written fails before any rendering.
+void check_output(const std::string& path) {
+  std::string error;
+  if (!check_output_path(path, error)) fail(error);
+}
+
 int cmd_render(int argc, char** argv) {
   Options o(argc, argv, 2,
             {"--time", "--size", "--view", "--mode", "--block", "--threads", "--overlay", "--out"});
@@ -144,6 +153,7 @@ int cmd_render(int argc, char** argv) {
   opt.threads = parse_threads(o);
   std::string overlay = o.get("--overlay", "on");
   if (overlay != "on" && overlay != "off") fail("--overlay: '" + overlay + "' is not on or off");
+  check_output(out);
   Scene scene;
   TimelineState st = build_timeline_scene(scene, t);
   // The timeline's renderer-visualisation segment shows the blocks by itself.
@@ -251,6 +261,7 @@ int cmd_sheet(int argc, char** argv) {
   Options o(argc, argv, 2, {"--out", "--threads"});
   std::string out = o.require("--out");
   int threads = parse_threads(o);
+  check_output(out);
   constexpr int kCols = 4, kRows = 4, kTw = 240, kTh = 180, kGap = 4;
   Image sheet(kCols * kTw + (kCols + 1) * kGap, kRows * kTh + (kRows + 1) * kGap);
   for (auto& p : sheet.pixels) p = 0xff101010u;
@@ -315,9 +326,7 @@ int cmd_bench(int argc, char** argv) {
   return run_bench(b);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   try {
     if (argc < 2) fail("no command given (try rt64k --help)");
     std::string cmd = argv[1];
@@ -332,10 +341,20 @@ int main(int argc, char** argv) {
     if (cmd == "audio") return cmd_audio(argc, argv);
     fail("unknown command '" + cmd + "' (try rt64k --help)");
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "rt64k: %s\n", e.message.c_str());
+    report_error(e.message);
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "rt64k: %s\n", e.what());
+    report_error(e.what());
     return 2;
   }
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  install_output_signal_handlers();
+  int code = run(argc, argv);
+  // Whatever went to stdout must have arrived (e.g. not > /dev/full).
+  if (!finish_stdout()) return 2;
+  return code;
 }

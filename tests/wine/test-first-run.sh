@@ -27,7 +27,13 @@ sed 's/^/  | /' "$WORK/run.out"
 [ "$rc" = 0 ] || fail "run-intro.sh exited with code $rc"
 grep -q "^creating a Wine prefix" "$WORK/run.out" || fail "the script did not create a prefix"
 grep -q "still running" "$WORK/run.out" || fail "the script did not see the intro running"
-if grep -qi "ALSA" "$WORK/run.out"; then fail "ALSA messages in the output"; fi
+# The intro's own output (Wine's and ALSA's messages) goes to a log when it
+# runs headless, and to the terminal when there is a display: neither may
+# hold ALSA errors.
+cp "$RT64K_BUILD_DIR/intro-run.log" "$WORK/intro-run.log" || fail "no intro-run.log"
+alsa=$(grep -ci "ALSA" "$WORK/run.out" "$WORK/intro-run.log" | awk -F: '{n += $2} END {print n}')
+echo "ALSA lines in the script's output and the intro's: $alsa (without the sound check: 16)"
+[ "$alsa" = 0 ] || fail "ALSA messages in the output"
 if [ -r /proc/asound/cards ] && grep -q '^ *[0-9]' /proc/asound/cards; then
   echo "this machine has an ALSA sound card: the 'runs silent' line is not expected"
 else

@@ -381,6 +381,7 @@ bool idle_while_minimised(HWND window) {
 }
 
 [[noreturn]] void run(const IntroOptions& options) {
+  const bool bench = RT64K_BENCH && options.bench; // a constant false without the feature
   // Real pixels on scaled desktops: otherwise Windows would stretch the
   // 800x600 client area (blurring it) on a display set above 100 %, and
   // GetSystemMetrics would report a scaled-down screen.
@@ -421,7 +422,7 @@ bool idle_while_minimised(HWND window) {
   // the first frame. Any failure here means silence on the system clock.
   short* samples = nullptr;
   HANDLE synth = nullptr;
-  if (RT64K_MUSIC && !options.hold && !options.bench && !options.mute) {
+  if (RT64K_MUSIC && !options.hold && !bench && !options.mute) {
     samples = (short*)VirtualAlloc(nullptr, kSampleCopies * kLoopBytes, MEM_COMMIT | MEM_RESERVE,
                                    PAGE_READWRITE);
     if (samples) synth = CreateThread(nullptr, 0, synth_worker, samples, 0, nullptr);
@@ -467,7 +468,7 @@ bool idle_while_minimised(HWND window) {
     // and /hold. The first frame shows the start time while the music is
     // prepared; the clock starts after it.
     double t = options.startSeconds, played = -1.0;
-    if (options.bench) {
+    if (bench) {
       t = kBenchFirst + frame * kBenchStep;
     } else if (frame > 0 && !options.hold) {
       if (playing) {
@@ -477,19 +478,19 @@ bool idle_while_minimised(HWND window) {
         t += seconds_between(clockStart, now, frequency);
       }
     }
-    if (RT64K_ONCE && options.once && !options.bench && t >= onceEnd) quit();
-    if (frame > 0 && !options.bench && idle_while_minimised(window)) continue;
+    if (RT64K_ONCE && options.once && !bench && t >= onceEnd) quit();
+    if (frame > 0 && !bench && idle_while_minimised(window)) continue;
     QueryPerformanceCounter(&frameStart);
     // Scene 2's renderer-visualisation segment tints the blocks.
     f.showBlocks = build_timeline_scene(job.scene, t).showBlocks;
     render_frame(job, workers);
-    overlay_draw(f.fb, f.width, f.height, f.stride, timeline_wrap(t)); // the captions
+    if (RT64K_CAPTIONS) overlay_draw(f.fb, f.width, f.height, f.stride, timeline_wrap(t));
     StretchDIBits(dc, layout.pictureX, layout.pictureY, layout.pictureW, layout.pictureH, 0, 0,
                   f.width, f.height, f.fb, &dib, DIB_RGB_COLORS, SRCCOPY);
     QueryPerformanceCounter(&now);
     double frameSeconds = seconds_between(frameStart, now, frequency);
     if (frameSeconds > slowest) slowest = frameSeconds;
-    if (options.bench && frame + 1 == kBenchFrames)
+    if (bench && frame + 1 == kBenchFrames)
       finish_bench(f.width, f.height, workers, seconds_between(firstFrame, now, frequency),
                    slowest);
     if (RT64K_LOG && options.log) log_frame(t, played, seconds_between(firstFrame, now, frequency));

@@ -112,7 +112,7 @@ IntroOptions parse_command_line(const char* line) {
     const char* name = begin + 1;
     if (word_is(name, p, "hold")) {
       o.hold = true;
-    } else if (word_is(name, p, "bench")) {
+    } else if (RT64K_BENCH && word_is(name, p, "bench")) {
       o.bench = true;
     } else if (RT64K_FULLSCREEN && word_is(name, p, "f")) {
       o.fullscreen = true;

@@ -165,7 +165,7 @@ row "without -ffunction-sections" sections \
 row "without -fno-ident" ident "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-ident)"
 row "without -fno-stack-protector" protector \
   "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-stack-protector)"
-row "with -fmerge-all-constants" merge "-DRT64K_SIZE_FLAGS=$sizeFlags;-fmerge-all-constants"
+row "without -fmerge-all-constants" merge "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fmerge-all-constants)"
 row "without -s (symbols kept)" strip "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -s)"
 row "without -Wl,--gc-sections (+ -lwinmm)" gc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--gc-sections)" -DRT64K_EXTRA_LIBS=winmm

@@ -13,7 +13,6 @@ set(RT64K_FP_FLAGS -fno-fast-math -ffp-contract=off -fno-math-errno -mfpmath=sse
 set(RT64K_CODE_SIZE_FLAGS
     -fno-tree-vectorize            # GCC 12 vectorises at -O2: scalar code here
     -fno-inline-functions          # -O2's inlining of non-small functions
-    -fno-tree-pre -fno-gcse        # partial redundancy elimination
     -fno-schedule-insns2 -fno-reorder-blocks # scheduling, block reordering
     -falign-functions=1 -falign-jumps=1 -falign-loops=1 -falign-labels=1) # no padding
 set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti

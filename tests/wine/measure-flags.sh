@@ -144,11 +144,12 @@ row "without LTO" no_lto -DRT64K_LTO_FLAGS=
 row "src/win32 at -Os instead of -Oz" win32_Os -DRT64K_WIN32_OPT=-Os
 row "core: GCC's vectoriser on (-ftree-vectorize)" vectorize -DRT64K_CORE_EXTRA=-ftree-vectorize
 row "core: -finline-functions (-O2's default)" inline_functions -DRT64K_CORE_EXTRA=-finline-functions
-row "core: -ftree-pre -fgcse (-O2's default)" pre "-DRT64K_CORE_EXTRA=-ftree-pre;-fgcse"
+row "core: -fno-tree-pre -fno-gcse (not shipped: measured -128 bytes under whole-exe LTO, +32 without)" pre \
+  "-DRT64K_CORE_EXTRA=-fno-tree-pre;-fno-gcse"
 row "core: -fschedule-insns2 -freorder-blocks (-O2's default)" schedule \
   "-DRT64K_CORE_EXTRA=-fschedule-insns2;-freorder-blocks"
-row "core: code alignment as -O2 (-falign-functions/jumps/loops/labels)" align \
-  "-DRT64K_CORE_EXTRA=-falign-functions;-falign-jumps;-falign-loops;-falign-labels"
+row "core: code aligned to 16 bytes (-falign-functions/jumps/loops=16)" align \
+  "-DRT64K_CORE_EXTRA=-falign-functions=16;-falign-jumps=16;-falign-loops=16"
 row "core: -fno-tree-ch -fno-thread-jumps (not shipped: +1.3-1.8 % instructions)" tree_ch \
   "-DRT64K_CORE_EXTRA=-fno-tree-ch;-fno-thread-jumps"
 # The flags measured before issue 11.
@@ -184,5 +185,5 @@ row "feature off: /bench (report, slowest frame, rt64k-bench.txt)" no_bench -DRT
 # the re-enabled -O2 parts reach the cold sources too), packed with --best.
 row "all of issue 11's size measures taken back (the build before them)" before \
   -DRT64K_LINKER_SCRIPT= -DRT64K_LTO_FLAGS= -DRT64K_WIN32_OPT=-Os "-DRT64K_SIZE_FLAGS=$sizeFlags;-fdata-sections" \
-  "-DRT64K_CORE_EXTRA=-ftree-vectorize;-finline-functions;-ftree-pre;-fgcse;-fschedule-insns2;-freorder-blocks;-falign-functions;-falign-jumps;-falign-loops;-falign-labels" \
+  "-DRT64K_CORE_EXTRA=-ftree-vectorize;-finline-functions;-fschedule-insns2;-freorder-blocks;-falign-functions=16;-falign-jumps=16;-falign-loops=16" \
   -DRT64K_UPX_OPTIONS=--best

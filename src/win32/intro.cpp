@@ -87,9 +87,9 @@ constexpr DWORD kMinimisedWaitMs = 250;
 // would wake every worker and the main thread twice a frame (measured in
 // docs/win32.md).
 //
-// The job lives on the main thread's stack (mutable globals would land in
-// the file: MinGW puts zero-initialised data of -fdata-sections builds into
-// .data). The main thread writes `scene`, `frame` and the counters only while
+// The job lives on the main thread's stack (no global to address; see
+// audio.cpp for the exe's one global, in .bss). The main thread writes
+// `scene`, `frame` and the counters only while
 // every worker waits on `start`; the semaphore release and the interlocked
 // operations order those writes before the workers' reads. A worker that saw
 // phase0Done == phase0Items reads the corners the others wrote: their

@@ -47,7 +47,14 @@ if(RT64K_HAVE_MINGW)
   ExternalProject_Add(intro_exe
     SOURCE_DIR ${CMAKE_SOURCE_DIR}/src/win32
     BINARY_DIR ${RT64K_WIN32_BINARY_DIR}
-    CMAKE_ARGS -DCMAKE_TOOLCHAIN_FILE=${CMAKE_SOURCE_DIR}/cmake/mingw-w64-x86_64.cmake
+    # The sub-build's flag variables are cache variables (for
+    # tests/wine/measure-flags.sh); -U drops values an older checkout left
+    # in an existing build tree, so the defaults of src/win32/CMakeLists.txt
+    # apply whenever this step runs again.
+    CMAKE_ARGS -URT64K_WIN32_OPT -URT64K_SIZE_FLAGS -URT64K_LINK_FLAGS -URT64K_LTO_FLAGS
+               -URT64K_LINKER_SCRIPT -URT64K_UPX_OPTIONS -URT64K_CORE_EXTRA -URT64K_FEATURES
+               -URT64K_EXTRA_LIBS
+               -DCMAKE_TOOLCHAIN_FILE=${CMAKE_SOURCE_DIR}/cmake/mingw-w64-x86_64.cmake
                -DCMAKE_BUILD_TYPE=Release -DRT64K_UPX=${RT64K_UPX}
     # The sub-build's own dependency scan decides what to recompile.
     BUILD_ALWAYS TRUE

@@ -1,12 +1,15 @@
-# size-check: intro.exe's size against the project's budget and hard limit.
+# size-check: intro.exe's size, unpacked and packed, against the project's
+# budget and hard limit.
 #   cmake -DEXE=intro.exe -DOBJDUMP=x86_64-w64-mingw32-objdump
 #         [-DUPX=/path/to/upx -DPACKED=intro-upx.exe] -P cmake/size-check.cmake
-# Prints the file size, the 16,384-byte budget, each section's size (from
-# objdump -h) and, where UPX was found, the packed copy's size. Fails only
-# above the 65,536-byte limit (of the packed copy when there is one, else of
-# the unpacked exe); over the budget it warns.
+# Prints the unpacked exe's bytes and sections (objdump -h) and, where UPX was
+# found, the packed exe's bytes and the UPX version. Fails above the
+# 65,536-byte limit on either; the budget (16,384, and the 20,480 of the
+# thesis's packed intro) is judged on the packed exe, the one that ships,
+# and only warns.
 set(kBudgetBytes 16384)
 set(kLimitBytes 65536)
+set(kTargetBytes 20480) # the thesis's intro after UPX (no music, no captions)
 
 if(NOT EXISTS "${EXE}")
   message(FATAL_ERROR "size-check: ${EXE} does not exist (build the intro_exe target first)")
@@ -26,7 +29,9 @@ foreach(row IN LISTS rows)
   list(GET fields 0 name)
   list(GET fields 1 hex)
   math(EXPR bytes "0x${hex}")
-  math(EXPR sectionBytes "${sectionBytes} + ${bytes}")
+  if(NOT name STREQUAL ".bss") # no file bytes
+    math(EXPR sectionBytes "${sectionBytes} + ${bytes}")
+  endif()
   string(LENGTH "${name}" nameLength)
   math(EXPR pad "10 - ${nameLength}")
   string(REPEAT " " ${pad} spaces)
@@ -35,9 +40,13 @@ endforeach()
 math(EXPR overheadBytes "${exeBytes} - ${sectionBytes}")
 
 message("size-check: intro.exe is ${exeBytes} bytes unpacked "
-        "(budget ${kBudgetBytes}, hard limit ${kLimitBytes})")
+        "(hard limit ${kLimitBytes})")
 message("  sections (virtual size):\n${report}"
-        "    headers, padding to the 512-byte file alignment: ${overheadBytes} bytes")
+        "    headers, padding to the 512-byte file alignment: ${overheadBytes} bytes (.bss takes none)")
+if(exeBytes GREATER kLimitBytes)
+  message(FATAL_ERROR "size-check: FAIL: the unpacked exe is ${exeBytes} bytes, "
+                      "over the ${kLimitBytes}-byte limit")
+endif()
 
 set(judgedBytes ${exeBytes})
 set(judged "unpacked exe")
@@ -45,23 +54,42 @@ if(UPX)
   if(NOT EXISTS "${PACKED}")
     message(FATAL_ERROR "size-check: UPX is at ${UPX} but ${PACKED} is missing")
   endif()
+  file(TIMESTAMP "${EXE}" exeTime "%s" UTC)
+  file(TIMESTAMP "${PACKED}" packedTime "%s" UTC)
+  if(packedTime LESS exeTime)
+    message(FATAL_ERROR "size-check: ${PACKED} is older than ${EXE} (the packing step did not run)")
+  endif()
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=UPX "${UPX}" --version
+                  OUTPUT_VARIABLE version RESULT_VARIABLE rc)
+  string(REGEX MATCH "^[^\n]*" version "${version}")
   file(SIZE "${PACKED}" packedBytes)
   math(EXPR percent "100 * (${exeBytes} - ${packedBytes}) / ${exeBytes}")
-  message("  UPX (${UPX}): packed copy ${PACKED} is ${packedBytes} bytes (-${percent} %)")
+  message("size-check: intro-upx.exe (packed by ${version}) is ${packedBytes} bytes "
+          "(-${percent} %; hard limit ${kLimitBytes})")
+  if(NOT version STREQUAL "upx 3.94")
+    message(WARNING "size-check: packed by '${version}', not the pinned upx 3.94 "
+                    "(tools/install-deps.sh): sizes differ from docs/win32.md")
+  endif()
   set(judgedBytes ${packedBytes})
-  set(judged "UPX-packed copy")
+  set(judged "packed exe")
 else()
-  message("  UPX is absent (not on PATH at configure time): judging the unpacked exe")
+  message(WARNING "size-check: UPX is absent (tools/install-deps.sh intro puts it into "
+                  "build-tools/): judging the unpacked exe")
 endif()
 
 if(judgedBytes GREATER kLimitBytes)
   message(FATAL_ERROR "size-check: FAIL: the ${judged} is ${judgedBytes} bytes, "
                       "over the ${kLimitBytes}-byte limit")
 endif()
-if(judgedBytes GREATER kBudgetBytes)
+if(judgedBytes GREATER kTargetBytes)
+  math(EXPR over "${judgedBytes} - ${kTargetBytes}")
+  message(WARNING "size-check: the ${judged} is ${over} bytes over the ${kTargetBytes}-byte target "
+                  "(the thesis's packed intro; budget ${kBudgetBytes}; still under the "
+                  "${kLimitBytes}-byte limit)")
+elseif(judgedBytes GREATER kBudgetBytes)
   math(EXPR over "${judgedBytes} - ${kBudgetBytes}")
-  message(WARNING "size-check: the ${judged} is ${over} bytes over the ${kBudgetBytes}-byte budget "
-                  "(still under the ${kLimitBytes}-byte limit)")
+  message("size-check: PASS: the ${judged} (${judgedBytes} bytes) is within the ${kTargetBytes}-byte "
+          "target, ${over} bytes over the ${kBudgetBytes}-byte budget")
 else()
   math(EXPR spare "${kBudgetBytes} - ${judgedBytes}")
   message("size-check: PASS: the ${judged} (${judgedBytes} bytes) is within the budget, "

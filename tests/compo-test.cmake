@@ -1,6 +1,8 @@
 # ctest: builds the `compo` target and checks the zip holds intro.exe (the
-# same bytes as the build's), rt64k.nfo (with that size in it) and an
-# 800x600 PNG screenshot.  cmake -DBUILD=<build dir> -P compo-test.cmake
+# same bytes as EXPECTED_EXE: the UPX-packed build/win32/intro-upx.exe where
+# UPX was found, else build/win32/intro.exe), rt64k.nfo (with that size in
+# it) and an 800x600 PNG screenshot.
+#   cmake -DBUILD=<build dir> -DEXPECTED_EXE=<exe> -P compo-test.cmake
 execute_process(COMMAND ${CMAKE_COMMAND} --build ${BUILD} --target compo
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
 if(NOT rc EQUAL 0)
@@ -19,17 +21,19 @@ if(NOT names STREQUAL "intro.exe;rt64k.nfo;screenshot.png")
   message(FATAL_ERROR "rt64k.zip holds [${names}], expected intro.exe, rt64k.nfo, screenshot.png")
 endif()
 file(SHA256 ${check}/intro.exe zipped)
-file(SHA256 ${BUILD}/win32/intro.exe built)
+file(SHA256 ${EXPECTED_EXE} built)
 if(NOT zipped STREQUAL built)
-  message(FATAL_ERROR "the zip's intro.exe differs from build/win32/intro.exe")
+  message(FATAL_ERROR "the zip's intro.exe differs from ${EXPECTED_EXE}")
 endif()
+get_filename_component(expectedName ${EXPECTED_EXE} NAME)
+file(SIZE ${BUILD}/win32/intro.exe rawSize)
 file(SIZE ${check}/intro.exe size)
 file(READ ${check}/rt64k.nfo nfo)
 string(FIND "${nfo}" "intro.exe, ${size} bytes" at)
 if(at LESS 0)
   message(FATAL_ERROR "rt64k.nfo does not state the exe's size (${size} bytes)")
 endif()
-foreach(word "/f" "/once" "/t:SECONDS" "/hold" "/mute" "/bench" "credits" "requirements")
+foreach(word "/f" "/scaled" "/once" "/t:SECONDS" "/hold" "/mute" "/bench" "credits" "requirements")
   string(FIND "${nfo}" "${word}" at)
   if(at LESS 0)
     message(FATAL_ERROR "rt64k.nfo lacks '${word}'")
@@ -40,4 +44,10 @@ file(READ ${check}/screenshot.png head LIMIT 24 HEX)
 if(NOT head MATCHES "^89504e470d0a1a0a0000000d49484452000003200000025[8]$")
   message(FATAL_ERROR "screenshot.png is not an 800x600 PNG (header ${head})")
 endif()
-message(STATUS "rt64k.zip: intro.exe (${size} bytes), rt64k.nfo, screenshot.png 800x600")
+if(expectedName STREQUAL "intro-upx.exe")
+  string(FIND "${nfo}" "packed with UPX 3.94 (${rawSize} bytes unpacked)" at)
+  if(at LESS 0 OR NOT size LESS rawSize)
+    message(FATAL_ERROR "the zip's intro.exe (${size} bytes) is not the packed exe, or rt64k.nfo does not say it is packed")
+  endif()
+endif()
+message(STATUS "rt64k.zip: intro.exe (${expectedName}, ${size} bytes; unpacked ${rawSize}), rt64k.nfo, screenshot.png 800x600")

@@ -21,8 +21,12 @@
 
 namespace {
 
-constexpr int kWidth = 800; // the picture (framebuffer), pixels
+// The picture's own size: the window's client area, and what /f /scaled
+// renders and scales to the screen. /f renders at the screen's largest 4:3
+// size instead; a window that does not fit the screen renders smaller.
+constexpr int kWidth = 800;
 constexpr int kHeight = 600;
+static_assert(kOnceLoopSeconds == kTimelineSeconds, "/once ends at the timeline's loop");
 // The adaptive renderer's settings: those of `rt64k render --mode adaptive`
 // (kDefaultBlock, kDefaultMinBlock in tools/frame.h, chosen from the
 // speed-against-error bench), so the screenshot tests can demand the same
@@ -30,9 +34,9 @@ constexpr int kHeight = 600;
 constexpr int kBaseBlock = 8;
 constexpr int kMinBlock = 2;
 // Without RT64K_ADAPTIVE a work item is a band of kBandRows fully traced
-// rows (8 divides 600; 75 bands keep every core busy to the end of a frame).
+// rows (75 bands at 600 rows keep every core busy to the end of a frame; the
+// last band of a height that 8 does not divide is shorter).
 constexpr int kBandRows = 8;
-static_assert(kHeight % kBandRows == 0, "bands must tile the frame");
 // Render threads: one per logical processor, at most this many (the most
 // GetSystemInfo reports for one processor group).
 constexpr DWORD kMaxWorkers = 64;
@@ -43,7 +47,7 @@ constexpr DWORD kMaxWorkers = 64;
 constexpr int kBenchFrames = 32;
 constexpr double kBenchStep = (double)kTimelineSeconds / kBenchFrames;
 constexpr double kBenchFirst = kBenchStep / 2;
-constexpr int kBenchDecimals = 2; // fps and seconds in the report
+constexpr int kBenchDecimals = 2; // fps, seconds and milliseconds in the report
 // /log prints the picture's time with enough decimals to give back the same
 // float timeline time when `rt64k render --time` reads it (timeline_wrap's
 // float has ~4e-6 s steps near 64 s), the other times to the microsecond.
@@ -67,10 +71,9 @@ constexpr int kReportChars = 256;
 
 constexpr DWORD kWindowStyle = WS_OVERLAPPED | WS_CAPTION | WS_SYSMENU | WS_MINIMIZEBOX;
 constexpr DWORD kFullscreenStyle = WS_POPUP; // no caption, no border
-
-// A top-down (negative height) 32-bit DIB: rows in memory order, 0xAARRGGBB.
-const BITMAPINFO kDib = {{sizeof(BITMAPINFOHEADER), kWidth, -kHeight, 1, 32, BI_RGB, 0, 0, 0, 0, 0},
-                         {}};
+// While minimised no frame is rendered; the main thread sleeps in the
+// message wait and wakes at least this often to check /once's end.
+constexpr DWORD kMinimisedWaitMs = 250;
 
 // One frame of work items, shared by the main thread and the workers. The
 // adaptive renderer has two phases (corner rows, then block rows; every
@@ -84,9 +87,9 @@ const BITMAPINFO kDib = {{sizeof(BITMAPINFOHEADER), kWidth, -kHeight, 1, 32, BI_
 // would wake every worker and the main thread twice a frame (measured in
 // docs/win32.md).
 //
-// The job lives on the main thread's stack (mutable globals would land in
-// the file: MinGW puts zero-initialised data of -fdata-sections builds into
-// .data). The main thread writes `scene`, `frame` and the counters only while
+// The job lives on the main thread's stack (no global to address; see
+// audio.cpp for the exe's one global, in .bss). The main thread writes
+// `scene`, `frame` and the counters only while
 // every worker waits on `start`; the semaphore release and the interlocked
 // operations order those writes before the workers' reads. A worker that saw
 // phase0Done == phase0Items reads the corners the others wrote: their
@@ -120,8 +123,9 @@ DWORD WINAPI render_worker(void* parameter) {
     RayStats stats; // adaptive_run adds to it; intro.exe does not report rays
     for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;) {
       if (!RT64K_ADAPTIVE) {
-        render_full_rows(job.scene, f.fb, kWidth, kHeight, kWidth, item * kBandRows,
-                         (item + 1) * kBandRows, nullptr);
+        int rowEnd = (item + 1) * kBandRows;
+        render_full_rows(job.scene, f.fb, f.width, f.height, f.stride, item * kBandRows,
+                         rowEnd < f.height ? rowEnd : f.height, nullptr);
         continue;
       }
       int phase = item >= job.phase0Items;
@@ -192,7 +196,7 @@ void render_frame(FrameJob& job, LONG workers) {
     job.phase0Items = adaptive_items(job.frame, 0);
     job.items = job.phase0Items + adaptive_items(job.frame, 1);
   } else {
-    job.phase0Items = job.items = kHeight / kBandRows;
+    job.phase0Items = job.items = (job.frame.height + kBandRows - 1) / kBandRows;
   }
   job.nextItem = 0;
   job.phase0Done = 0;
@@ -249,22 +253,28 @@ double process_cpu_seconds() {
   return (ticks(kernel) + ticks(user)) * kFileTimeTick;
 }
 
-[[noreturn]] void finish_bench(double seconds, LONG workers) {
+// /bench's figures: frames rendered at width x height on `workers` threads
+// in `seconds` (wall clock), the slowest frame (scene, render, captions and
+// blit) in `slowestSeconds`.
+[[noreturn]] void finish_bench(int width, int height, LONG workers, double seconds,
+                               double slowestSeconds) {
   char storage[kReportChars];
   TextBuffer b = text_buffer(storage, kReportChars);
   append(b, "rt64k bench: ");
   append_uint(b, kBenchFrames);
   append(b, " frames ");
-  append_uint(b, kWidth);
+  append_uint(b, (unsigned)width);
   append(b, "x");
-  append_uint(b, kHeight);
+  append_uint(b, (unsigned)height);
   append(b, " on ");
   append_uint(b, (unsigned long long)workers);
   append(b, " threads in ");
   append_fixed(b, seconds, kBenchDecimals);
   append(b, " s = ");
   append_fixed(b, kBenchFrames / seconds, kBenchDecimals);
-  append(b, " fps, CPU ");
+  append(b, " fps, slowest ");
+  append_fixed(b, slowestSeconds * 1000.0, kBenchDecimals);
+  append(b, " ms, CPU ");
   append_fixed(b, process_cpu_seconds(), kBenchDecimals);
   append(b, " s\r\n");
   write_bench_report(storage, (DWORD)text_length(b));
@@ -288,26 +298,110 @@ void log_frame(double t, double played, double wall) {
   write_stdout(storage, (DWORD)text_length(b));
 }
 
+// Where the picture goes: the window, the size the picture is rendered at
+// and the rectangle of the client area it is drawn into (1:1 unless /f
+// /scaled stretches the 800x600 picture).
+struct Layout {
+  DWORD style;
+  int windowX, windowY; // CW_USEDEFAULT, or where a shrunk window goes
+  int clientW, clientH; // the client area
+  int renderW, renderH; // the framebuffer
+  int pictureX, pictureY, pictureW, pictureH;
+};
+
+// The largest width x height of the picture's 4:3 aspect ratio within
+// maxW x maxH (integer division: at most a pixel short of 4:3).
+void fit_picture(int maxW, int maxH, int& width, int& height) {
+  width = maxW;
+  height = maxW * kHeight / kWidth;
+  if (height > maxH) {
+    height = maxH;
+    width = maxH * kWidth / kHeight;
+  }
+  if (width < 1) width = 1;
+  if (height < 1) height = 1;
+}
+
+// /f: a borderless popup over the whole primary monitor; the picture is
+// rendered at the largest 4:3 size that fits it (or, with /scaled, at
+// 800x600 and stretched to that size), centred, black bars around it (the
+// class's black brush). Windowed: an 800x600 client area, or, on a screen
+// whose work area cannot hold that with the window's frame, the largest
+// 4:3 client area that fits, rendered at that size, at the work area's top.
+Layout choose_layout(const IntroOptions& options) {
+  Layout l;
+  l.style = kWindowStyle;
+  l.windowX = l.windowY = CW_USEDEFAULT;
+  l.clientW = kWidth;
+  l.clientH = kHeight;
+  if (RT64K_FULLSCREEN && options.fullscreen) {
+    l.style = kFullscreenStyle; // CW_USEDEFAULT places a popup at 0, 0
+    l.clientW = GetSystemMetrics(SM_CXSCREEN);
+    l.clientH = GetSystemMetrics(SM_CYSCREEN);
+    fit_picture(l.clientW, l.clientH, l.pictureW, l.pictureH);
+  } else {
+    RECT work, frame = {0, 0, 0, 0};
+    if (!SystemParametersInfoA(SPI_GETWORKAREA, 0, &work, 0)) {
+      work.left = work.top = 0;
+      work.right = GetSystemMetrics(SM_CXSCREEN);
+      work.bottom = GetSystemMetrics(SM_CYSCREEN);
+    }
+    AdjustWindowRect(&frame, l.style, FALSE); // the frame around a client area
+    int roomW = (work.right - work.left) - (frame.right - frame.left);
+    int roomH = (work.bottom - work.top) - (frame.bottom - frame.top);
+    if (roomW < kWidth || roomH < kHeight) {
+      fit_picture(roomW < kWidth ? roomW : kWidth, roomH < kHeight ? roomH : kHeight, l.clientW,
+                  l.clientH);
+      l.windowX = work.left;
+      l.windowY = work.top;
+    }
+    l.pictureW = l.clientW;
+    l.pictureH = l.clientH;
+  }
+  l.renderW = l.pictureW;
+  l.renderH = l.pictureH;
+  if (RT64K_FULLSCREEN && options.fullscreen && options.scaled) {
+    l.renderW = kWidth;
+    l.renderH = kHeight;
+  }
+  l.pictureX = (l.clientW - l.pictureW) / 2;
+  l.pictureY = (l.clientH - l.pictureH) / 2;
+  return l;
+}
+
+// While the window is minimised nothing is rendered: the main thread waits
+// for messages (a restore wakes it), at most kMinimisedWaitMs at a time, and
+// returns true once the window is back. False (nothing waited) if it is not
+// minimised. The clock runs on meanwhile, as the music does.
+bool idle_while_minimised(HWND window) {
+  if (!IsIconic(window)) return false;
+  MsgWaitForMultipleObjectsEx(0, nullptr, kMinimisedWaitMs, QS_ALLINPUT, MWMO_INPUTAVAILABLE);
+  pump_messages();
+  return true;
+}
+
 [[noreturn]] void run(const IntroOptions& options) {
+  const bool bench = RT64K_BENCH && options.bench; // a constant false without the feature
   // Real pixels on scaled desktops: otherwise Windows would stretch the
   // 800x600 client area (blurring it) on a display set above 100 %, and
   // GetSystemMetrics would report a scaled-down screen.
   SetProcessDPIAware();
 
+  const Layout layout = choose_layout(options);
   FrameJob job;
   AdaptiveFrame& f = job.frame;
   f.scene = &job.scene;
-  f.width = f.stride = kWidth;
-  f.height = kHeight;
+  f.width = f.stride = layout.renderW;
+  f.height = layout.renderH;
   f.baseBlock = kBaseBlock;
   f.minBlock = kMinBlock;
   f.mode = kModeAdaptive;
   f.kinds = nullptr;
   // The framebuffer and the corner samples, allocated once for the whole run.
-  f.fb = (u32*)VirtualAlloc(nullptr, kWidth * kHeight * sizeof(u32), MEM_COMMIT | MEM_RESERVE,
-                            PAGE_READWRITE);
+  f.fb = (u32*)VirtualAlloc(nullptr, (SIZE_T)f.width * f.height * sizeof(u32),
+                            MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
   f.corners = (CornerSample*)VirtualAlloc(
-      nullptr, adaptive_corner_count(kWidth, kHeight, kBaseBlock) * sizeof(CornerSample),
+      nullptr, adaptive_corner_count(f.width, f.height, kBaseBlock) * sizeof(CornerSample),
       MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
   job.start = CreateSemaphoreA(nullptr, 0, kMaxWorkers, nullptr);
   job.done = CreateEventA(nullptr, FALSE, FALSE, nullptr);
@@ -328,30 +422,16 @@ void log_frame(double t, double played, double wall) {
   // the first frame. Any failure here means silence on the system clock.
   short* samples = nullptr;
   HANDLE synth = nullptr;
-  if (RT64K_MUSIC && !options.hold && !options.bench && !options.mute) {
+  if (RT64K_MUSIC && !options.hold && !bench && !options.mute) {
     samples = (short*)VirtualAlloc(nullptr, kSampleCopies * kLoopBytes, MEM_COMMIT | MEM_RESERVE,
                                    PAGE_READWRITE);
     if (samples) synth = CreateThread(nullptr, 0, synth_worker, samples, 0, nullptr);
   }
 
-  // The window: 800x600 of client area, or (/f) a borderless popup over the
-  // whole screen. CW_USEDEFAULT places a popup at 0, 0. The picture is
-  // scaled to the largest rectangle of its own aspect ratio that fits and
-  // centred; the class's black brush paints the bars (WM_ERASEBKGND).
-  int screenW = kWidth, screenH = kHeight;
-  DWORD style = kWindowStyle;
-  if (RT64K_FULLSCREEN && options.fullscreen) {
-    screenW = GetSystemMetrics(SM_CXSCREEN);
-    screenH = GetSystemMetrics(SM_CYSCREEN);
-    style = kFullscreenStyle;
-    ShowCursor(FALSE);
-  }
-  int pictureW = screenW, pictureH = screenW * kHeight / kWidth;
-  if (pictureH > screenH) {
-    pictureH = screenH;
-    pictureW = screenH * kWidth / kHeight;
-  }
-  int pictureX = (screenW - pictureW) / 2, pictureY = (screenH - pictureH) / 2;
+  if (RT64K_FULLSCREEN && options.fullscreen) ShowCursor(FALSE);
+  // A top-down (negative height) 32-bit DIB: rows in memory order, 0xAARRGGBB.
+  BITMAPINFO dib = {{sizeof(BITMAPINFOHEADER), f.width, -f.height, 1, 32, BI_RGB, 0, 0, 0, 0, 0},
+                    {}};
 
   HINSTANCE instance = GetModuleHandleA(nullptr);
   WNDCLASSA windowClass = {};
@@ -362,11 +442,11 @@ void log_frame(double t, double played, double wall) {
   windowClass.hbrBackground = (HBRUSH)GetStockObject(BLACK_BRUSH);
   windowClass.lpszClassName = kClassName;
   RegisterClassA(&windowClass);
-  RECT outer = {0, 0, screenW, screenH};  // the client area we want ...
-  AdjustWindowRect(&outer, style, FALSE); // ... and the window around it
-  HWND window = CreateWindowExA(0, kClassName, kWindowTitle, style | WS_VISIBLE, CW_USEDEFAULT,
-                                CW_USEDEFAULT, outer.right - outer.left, outer.bottom - outer.top,
-                                nullptr, nullptr, instance, nullptr);
+  RECT outer = {0, 0, layout.clientW, layout.clientH}; // the client area we want ...
+  AdjustWindowRect(&outer, layout.style, FALSE);       // ... and the window around it
+  HWND window = CreateWindowExA(0, kClassName, kWindowTitle, layout.style | WS_VISIBLE,
+                                layout.windowX, layout.windowY, outer.right - outer.left,
+                                outer.bottom - outer.top, nullptr, nullptr, instance, nullptr);
   if (!window) ExitProcess(1);
   HDC dc = GetDC(window);
   // Scaled down (a screen under 800x600), the default BLACKONWHITE would AND
@@ -375,10 +455,10 @@ void log_frame(double t, double played, double wall) {
 
   // /once ends at the end of the timeline loop the start time lies in (64 s
   // for any start in [0, 64)).
-  const double onceEnd =
-      options.startSeconds - timeline_wrap(options.startSeconds) + kTimelineSeconds;
+  const double onceEnd = once_end_seconds(options.startSeconds);
+  double slowest = 0.0; // seconds: the slowest frame so far (/bench reports it)
   bool playing = false;
-  LARGE_INTEGER frequency, firstFrame, clockStart, now;
+  LARGE_INTEGER frequency, firstFrame, clockStart, frameStart, now;
   QueryPerformanceFrequency(&frequency);
   QueryPerformanceCounter(&firstFrame);
   clockStart = firstFrame;
@@ -388,7 +468,7 @@ void log_frame(double t, double played, double wall) {
     // and /hold. The first frame shows the start time while the music is
     // prepared; the clock starts after it.
     double t = options.startSeconds, played = -1.0;
-    if (options.bench) {
+    if (bench) {
       t = kBenchFirst + frame * kBenchStep;
     } else if (frame > 0 && !options.hold) {
       if (playing) {
@@ -398,16 +478,21 @@ void log_frame(double t, double played, double wall) {
         t += seconds_between(clockStart, now, frequency);
       }
     }
-    if (RT64K_ONCE && options.once && !options.bench && t >= onceEnd) quit();
+    if (RT64K_ONCE && options.once && !bench && t >= onceEnd) quit();
+    if (frame > 0 && !bench && idle_while_minimised(window)) continue;
+    QueryPerformanceCounter(&frameStart);
     // Scene 2's renderer-visualisation segment tints the blocks.
     f.showBlocks = build_timeline_scene(job.scene, t).showBlocks;
     render_frame(job, workers);
-    overlay_draw(f.fb, kWidth, kHeight, kWidth, timeline_wrap(t)); // the captions
-    StretchDIBits(dc, pictureX, pictureY, pictureW, pictureH, 0, 0, kWidth, kHeight, f.fb, &kDib,
-                  DIB_RGB_COLORS, SRCCOPY);
+    if (RT64K_CAPTIONS) overlay_draw(f.fb, f.width, f.height, f.stride, timeline_wrap(t));
+    StretchDIBits(dc, layout.pictureX, layout.pictureY, layout.pictureW, layout.pictureH, 0, 0,
+                  f.width, f.height, f.fb, &dib, DIB_RGB_COLORS, SRCCOPY);
     QueryPerformanceCounter(&now);
-    if (options.bench && frame + 1 == kBenchFrames)
-      finish_bench(seconds_between(firstFrame, now, frequency), workers);
+    double frameSeconds = seconds_between(frameStart, now, frequency);
+    if (frameSeconds > slowest) slowest = frameSeconds;
+    if (bench && frame + 1 == kBenchFrames)
+      finish_bench(f.width, f.height, workers, seconds_between(firstFrame, now, frequency),
+                   slowest);
     if (RT64K_LOG && options.log) log_frame(t, played, seconds_between(firstFrame, now, frequency));
     if (frame == 0) {
       if (RT64K_MUSIC && synth) {

@@ -39,3 +39,14 @@
 #ifndef RT64K_LOG
 #define RT64K_LOG 1
 #endif
+
+// Captions: the title, credits and greetings over the picture
+// (src/core/overlay.h: the pixel font, the texts, the drawing).
+#ifndef RT64K_CAPTIONS
+#define RT64K_CAPTIONS 1
+#endif
+
+// /bench: fixed frame times, the report line and rt64k-bench.txt.
+#ifndef RT64K_BENCH
+#define RT64K_BENCH 1
+#endif

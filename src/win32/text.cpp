@@ -87,7 +87,7 @@ bool parse_seconds(const char* begin, const char* end, double* out) {
 }
 
 IntroOptions parse_command_line(const char* line) {
-  IntroOptions o{0.0, false, false, false, false, false, false};
+  IntroOptions o{0.0, false, false, false, false, false, false, false};
   if (!line) return o;
   const char* p = line;
   while (is_space(*p))
@@ -112,10 +112,12 @@ IntroOptions parse_command_line(const char* line) {
     const char* name = begin + 1;
     if (word_is(name, p, "hold")) {
       o.hold = true;
-    } else if (word_is(name, p, "bench")) {
+    } else if (RT64K_BENCH && word_is(name, p, "bench")) {
       o.bench = true;
     } else if (RT64K_FULLSCREEN && word_is(name, p, "f")) {
       o.fullscreen = true;
+    } else if (RT64K_FULLSCREEN && word_is(name, p, "scaled")) {
+      o.scaled = true;
     } else if (RT64K_ONCE && word_is(name, p, "once")) {
       o.once = true;
     } else if (RT64K_MUTE && word_is(name, p, "mute")) {
@@ -127,6 +129,13 @@ IntroOptions parse_command_line(const char* line) {
       if (parse_seconds(name + 2, p, &t)) o.startSeconds = t;
     }
   }
+}
+
+double once_end_seconds(double startSeconds) {
+  double loops = startSeconds / kOnceLoopSeconds; // exact: a power of two
+  long long n = (long long)loops;                 // |loops| < 2^63 for |start| <= 1e9
+  if ((double)n > loops) --n;                     // floor for negatives
+  return ((double)n + 1.0) * kOnceLoopSeconds;
 }
 
 TextBuffer text_buffer(char* storage, int size) {

@@ -21,12 +21,23 @@ struct IntroOptions {
   bool once;           // /once: exit with code 0 at the end of the timeline
   bool mute;           // /mute: no music; the system clock
   bool log;            // /log: one line per frame on stdout (tests)
+  bool scaled;         // /scaled: with /f, render 800x600 and scale it (slow machines)
 };
+
+// The timeline's loop (scenes.h kTimelineSeconds; intro.cpp checks they agree).
+constexpr double kOnceLoopSeconds = 64.0;
+
+// /once's end: the end of the timeline loop that `startSeconds` lies in,
+// computed in double (floor(start / 64) + 1) * 64, so that
+// 0 < end - start <= 64 for every start |start| <= kMaxStartSeconds. (The
+// picture's float wrap rounds a start just below a loop's end up to the next
+// loop's 0 s; the end must not follow it a loop later.)
+double once_end_seconds(double startSeconds);
 
 // Parses a Win32 command line as GetCommandLineA returns it: the program name
 // first (possibly in double quotes), then options separated by spaces or tabs.
 // Options start with '/' or '-' and are case-insensitive: /t:SECONDS, /hold,
-// /bench, /f, /once, /mute, /log (each only where its switch in switches.h is
+// /bench, /f, /scaled, /once, /mute, /log (each only where its switch in switches.h is
 // on; otherwise it is unknown). Unknown options, and a /t: whose number is malformed or out of
 // range, are ignored. A later /t: overrides an earlier one. Null gives defaults.
 IntroOptions parse_command_line(const char* line);

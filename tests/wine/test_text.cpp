@@ -67,14 +67,57 @@ TEST(CommandLine, DemopartySwitches) {
   EXPECT_FALSE(o.mute);
   EXPECT_FALSE(o.log);
   EXPECT_EQ(o.startSeconds, 60.0);
+  EXPECT_FALSE(o.scaled);
+  o = parse("intro.exe /f -SCALED");
+  EXPECT_TRUE(o.fullscreen);
+  EXPECT_TRUE(o.scaled);
   // Near misses are unknown options, ignored.
   for (const char* j : {"/fs", "/full", "/f:", "f", "/oncex", "/on", "/muted", "/mut", "/logx",
-                        "/lo", "/f/once", "/once/mute"}) {
+                        "/lo", "/f/once", "/once/mute", "/scale", "/scaledx", "/f/scaled"}) {
     o = parse(std::string("intro.exe ") + j);
     EXPECT_FALSE(o.fullscreen) << j;
     EXPECT_FALSE(o.once) << j;
     EXPECT_FALSE(o.mute) << j;
     EXPECT_FALSE(o.log) << j;
+    EXPECT_FALSE(o.scaled) << j;
+  }
+}
+
+// /once ends at the end of the start's own 64-s loop: issue 12's
+// /t:63.999999 played a whole extra loop (the start's float wrap rounds to
+// 64 s, taken as 0 s of the next loop).
+TEST(OnceEnd, StartsNearALoopsEndDoNotGainALoop) {
+  const double justBelow64 = std::nextafter(64.0, 0.0);
+  struct Case {
+    double start, end;
+  } cases[] = {
+      {0.0, 64.0},         {60.0, 64.0},          {63.99, 64.0},      {63.9999, 64.0},
+      {63.99999, 64.0},    {63.999999, 64.0},     {63.9999999, 64.0}, {justBelow64, 64.0},
+      {64.0, 128.0},       {127.999999, 128.0},   {-3.0, 0.0},        {-1e-9, 0.0},
+      {-64.0, 0.0},        {-64.000001, -64.0},   {1e9, 1e9 + 64.0}, // 1e9 = 64 x 15,625,000
+      {-1e9, -1e9 + 64.0}, {999999999.99999, 1e9}};
+  for (const Case& c : cases)
+    EXPECT_EQ(once_end_seconds(c.start), c.end) << c.start;
+  EXPECT_EQ(once_end_seconds(parse("intro.exe /t:63.999999 /once").startSeconds), 64.0);
+}
+
+// For any start: the end is a multiple of 64 s, after the start and at most
+// a loop later (seeded; near-multiples of 64 and the whole allowed range).
+TEST(OnceEnd, EndIsTheStartsLoopEnd) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> any(-kMaxStartSeconds, kMaxStartSeconds);
+  std::uniform_int_distribution<int> loop(-1000, 1000), ulps(-4, 4);
+  for (int i = 0; i < 100000; ++i) {
+    double start = any(rng);
+    if (i % 2) { // a few ulps around a loop boundary
+      start = 64.0 * loop(rng);
+      for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1)
+        start = std::nextafter(start, k > 0 ? 1e300 : -1e300);
+    }
+    double end = once_end_seconds(start);
+    ASSERT_GT(end, start) << start;
+    ASSERT_LE(end - start, 64.0) << start;
+    ASSERT_EQ(std::fmod(end, 64.0), 0.0) << start;
   }
 }
 

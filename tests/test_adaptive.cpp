@@ -11,6 +11,10 @@
 
 namespace {
 
+// The renderer marks every pixel copied, interpolated or traced; a split
+// block marks none of its own, so kSplit (with no samples counted) is "unset".
+constexpr uint8_t kUnset = kSplit;
+
 // Diffuse only: no highlight rims to split on besides the edge under test.
 Material matte(Vec3 c) { return Material{c, 0.8f, 0.0f, 20, 0, 0, 1, 0.3f, 0.04f}; }
 
@@ -153,7 +157,7 @@ struct Frames {
 Frames render_both(double t, int w, int h, int block) {
   Scene s;
   build_timeline_scene(s, t);
-  Frames f{Image(w, h), Image(w, h), std::vector<uint8_t>(size_t(w) * size_t(h), 255)};
+  Frames f{Image(w, h), Image(w, h), std::vector<uint8_t>(size_t(w) * size_t(h), kUnset)};
   RenderOptions full;
   full.mode = Mode::Full;
   full.threads = 2;
@@ -172,8 +176,9 @@ TEST(AdaptiveFrame, TracedPixelsEqualFullTrace) {
     Frames f = render_both(t, 400, 300, 8);
     size_t traced = 0, mismatched = 0, unset = 0;
     for (size_t i = 0; i < f.kinds.size(); ++i) {
-      if (f.kinds[i] == 255) ++unset;
-      if (f.kinds[i] != kTraced) continue;
+      uint8_t kind = f.kinds[i] & kKindMask;
+      if (kind == kUnset) ++unset;
+      if (kind != kTraced) continue;
       ++traced;
       mismatched += f.full.pixels[i] != f.adaptive.pixels[i];
     }
@@ -188,16 +193,15 @@ TEST(AdaptiveFrame, EmptySceneIsAllCopiedFromCornersOnly) {
   base_scene(s);
   constexpr int kW = 64, kH = 48, kB = 8;
   Image img(kW, kH);
-  std::vector<uint8_t> kinds(kW * kH, 255);
+  std::vector<uint8_t> kinds(kW * kH, kUnset);
   RenderOptions opt;
   opt.block = kB;
   opt.threads = 1;
   opt.kinds = kinds.data();
   RayStats stats;
   render_frame(s, img, opt, &stats);
-  for (uint8_t k : kinds) ASSERT_EQ(k, kCopied);
-  EXPECT_EQ(stats.primary, uint64_t(adaptive_corner_count(kW, kH, kB)));  // corners traced once
-  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1)));
+  for (uint8_t k : kinds) ASSERT_EQ(k & kKindMask, kCopied);
+  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1)));  // corners traced once
   for (uint32_t p : img.pixels) ASSERT_EQ(p, pack_color(s.background));
 }
 
@@ -215,7 +219,7 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
             flat);
   constexpr int kN = 128;
   Image img(kN, kN), full(kN, kN);
-  std::vector<uint8_t> kinds(kN * kN, 255);
+  std::vector<uint8_t> kinds(kN * kN, kUnset);
   RenderOptions opt;
   opt.threads = 2;
   opt.kinds = kinds.data();
@@ -233,7 +237,7 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   size_t traced = 0;
   for (int y = 0; y < kN; ++y) {
     for (int x : {edge, edge + 1}) {
-      uint8_t k = kinds[size_t(y * kN + x)];
+      uint8_t k = kinds[size_t(y * kN + x)] & kKindMask;
       EXPECT_NE(k, kInterpolated) << "x=" << x << " y=" << y;
       traced += k == kTraced;
     }
@@ -260,13 +264,47 @@ TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   }
 }
 
+// No sample is traced twice (issue 9): the renderer counts in bits 6-7 of
+// `kinds` the samples traced at each pixel. Every count is 0 or 1, and they
+// add up to the primary rays cast, for any thread count and at odd sizes
+// (blocks clipped at the right and bottom edges split into odd halves).
+TEST(AdaptiveFrame, NoSampleIsTracedTwice) {
+  struct Case {
+    double t;
+    int w, h, block, threads;
+  };
+  for (Case c : {Case{12.0, 400, 300, 8, 1}, Case{44.0, 400, 300, 8, 2}, Case{38.5, 400, 300, 8, 7},
+                 Case{27.5, 203, 157, 8, 2}, Case{44.0, 203, 157, 16, 2}, Case{5.0, 97, 61, 4, 7},
+                 Case{58.75, 150, 100, 5, 2}}) {
+    Scene s;
+    build_timeline_scene(s, c.t);
+    Image img(c.w, c.h);
+    std::vector<uint8_t> kinds(size_t(c.w * c.h), kUnset);
+    RenderOptions opt;
+    opt.block = c.block;
+    opt.threads = c.threads;
+    opt.kinds = kinds.data();
+    RayStats stats;
+    render_frame(s, img, opt, &stats);
+    uint64_t samples = 0, twice = 0;
+    for (uint8_t k : kinds) {
+      int count = k >> kSampleCountShift;
+      samples += uint64_t(count);
+      twice += count > 1;
+    }
+    EXPECT_EQ(twice, 0u) << "t=" << c.t << " " << c.w << "x" << c.h << " block " << c.block;
+    EXPECT_EQ(samples, stats.primary) << "t=" << c.t;
+    EXPECT_GT(samples, uint64_t(c.w * c.h / 50)) << "t=" << c.t;  // corners and more
+  }
+}
+
 TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
   Scene s;
   build_timeline_scene(s, 12.0);
   for (int w : {1, 2, 7, 33}) {
     for (int h : {1, 3, 17}) {
       Image img(w, h), full(w, h);
-      std::vector<uint8_t> kinds(size_t(w * h), 255);
+      std::vector<uint8_t> kinds(size_t(w * h), kUnset);
       RenderOptions opt;
       opt.kinds = kinds.data();
       render_frame(s, img, opt, nullptr);
@@ -274,8 +312,8 @@ TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
       fo.mode = Mode::Full;
       render_frame(s, full, fo, nullptr);
       for (size_t i = 0; i < kinds.size(); ++i) {
-        ASSERT_NE(kinds[i], 255) << w << "x" << h << " pixel " << i;
-        if (kinds[i] == kTraced) {
+        ASSERT_NE(kinds[i] & kKindMask, kUnset) << w << "x" << h << " pixel " << i;
+        if ((kinds[i] & kKindMask) == kTraced) {
           ASSERT_EQ(img.pixels[i], full.pixels[i]) << w << "x" << h;
         }
       }

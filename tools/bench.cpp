@@ -204,7 +204,7 @@ int run_bench(const BenchOptions& o) {
       opt.threads = o.threads;
       double flicker = measure_flicker(next, ref, img, refNext, opt, imgNext);
       ModeResult& r = results[m];
-      for (uint8_t k : kinds) r.kindPixels[k & 3] += 1;
+      for (uint8_t k : kinds) r.kindPixels[k & kKindMask] += 1;
       r.ms.push_back(ms);
       if (o.scaling) r.ms1.push_back(ms1);
       r.psnr.push_back(e.psnr);

@@ -3,6 +3,7 @@
 // the same picture for any thread count.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "adaptive.h"
@@ -318,6 +319,73 @@ TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
         }
       }
     }
+  }
+}
+
+// Interpolated channels are the exact bilinear value rounded to nearest,
+// to within kInterpolationSlack (float steps along a row of up to 256 pixels).
+constexpr double kInterpolationSlack = 1.0 / 256;
+
+TEST(AdaptiveFill, InterpolationRoundsTheBilinearValue) {
+  // Seeded corners and block shapes, including blocks owning their right
+  // column and bottom row (at the image's edges) and flat ones.
+  uint32_t seed = 12345;
+  auto next = [&seed] {
+    seed = seed * 1664525u + 1013904223u;
+    return seed >> 8;
+  };
+  constexpr int kStride = 260, kRows = 24;
+  constexpr uint32_t kGuard = 0x12345678u;
+  int checked = 0;
+  for (int iter = 0; iter < 2000; ++iter) {
+    int w = int(next() % 17), h = int(next() % 17);
+    if (iter % 100 == 0) w = 255;  // the longest row (a block of 256 at the image's edge)
+    int x0 = 1 + int(next() % 3), y0 = 1 + int(next() % 3), x1 = x0 + w, y1 = y0 + h;
+    int xEnd = next() % 2 ? x1 + 1 : (w ? x1 : x1 + 1);
+    int yEnd = next() % 2 ? y1 + 1 : (h ? y1 : y1 + 1);
+    uint32_t c[4];
+    for (uint32_t& v : c) v = 0xff000000u | (next() & 0xffffffu);
+    if (iter % 5 == 0) c[3] = c[0];  // some equal corners
+    if (w == 0) c[1] = c[0], c[3] = c[2];  // corners at one pixel are one sample
+    if (h == 0) c[2] = c[0], c[3] = c[1];
+    std::vector<uint32_t> fb(kStride * kRows, kGuard);
+    adaptive_interpolate(fb.data(), kStride, x0, y0, x1, y1, xEnd, yEnd, c[0], c[1], c[2], c[3]);
+    for (int y = 0; y < kRows; ++y)
+      for (int x = 0; x < kStride; ++x) {
+        uint32_t p = fb[size_t(y * kStride + x)];
+        if (x < x0 || x >= xEnd || y < y0 || y >= yEnd) {
+          ASSERT_EQ(p, kGuard) << "wrote outside the block at " << x << "," << y;
+          continue;
+        }
+        // The exact bilinear value rounded, and exact at the corners.
+        double fx = w ? double(x - x0) / w : 0, fy = h ? double(y - y0) / h : 0;
+        for (int sh = 0; sh < 24; sh += 8) {
+          auto ch = [sh](uint32_t v) { return double(v >> sh & 255); };
+          double exact = (1 - fy) * ((1 - fx) * ch(c[0]) + fx * ch(c[1])) +
+                         fy * ((1 - fx) * ch(c[2]) + fx * ch(c[3]));
+          ASSERT_LE(std::abs(ch(p) - exact), 0.5 + kInterpolationSlack)
+              << "iter " << iter << " at " << x << "," << y;
+          if ((x == x0 || x == x1) && (y == y0 || y == y1)) {
+            ASSERT_EQ(ch(p), exact);
+          }
+        }
+        ASSERT_EQ(p >> 24, 255u);
+        ++checked;
+      }
+  }
+  EXPECT_GT(checked, 100000);
+}
+
+TEST(AdaptiveFill, FillWritesExactlyTheBlock) {
+  constexpr int kStride = 23;
+  for (int w = 0; w <= 9; ++w) {
+    std::vector<uint32_t> fb(kStride * 6, 0u);
+    adaptive_fill(fb.data(), kStride, 3, 2, 3 + w, 5, 0xff102030u);
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < kStride; ++x)
+        ASSERT_EQ(fb[size_t(y * kStride + x)],
+                  (x >= 3 && x < 3 + w && y >= 2 && y < 5) ? 0xff102030u : 0u)
+            << w << ": " << x << "," << y;
   }
 }
 

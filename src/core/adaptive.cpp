@@ -20,7 +20,16 @@ namespace {
 
 typedef CornerSample Sample;
 
-enum SlotState : u8 { kUnknown, kPending, kKnown };
+enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
+
+// EXPERIMENT: longest side whose midpoint may be estimated (0: none), and the
+// largest channel difference of its ends.
+#ifndef RT64K_ESTIMATE_SIDES
+#define RT64K_ESTIMATE_SIDES 0
+#endif
+#ifndef RT64K_ESTIMATE_DIFF
+#define RT64K_ESTIMATE_DIFF 255
+#endif
 
 struct Edge {
   Sample* s;
@@ -104,7 +113,7 @@ void flush(Context& c) {
 // Asks for the sample at (x, y) into slot e[0] (traced unless known or
 // already asked for).
 void request(Context& c, int x, int y, Edge e) {
-  if (*e.st != kUnknown) return;
+  if (*e.st != kUnknown && *e.st != kEstimated) return;
   *e.st = kPending;
   Batch& b = c.batch;
   b.x[b.n] = x;
@@ -125,6 +134,36 @@ void request_pixel(Context& c, int x, int y) {
   b.state[b.n] = nullptr;
   b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
   if (++b.n == kBatch) flush(c);
+}
+
+int max_diff(u32 a, u32 b) {
+  int m = 0;
+  for (int sh = 0; sh < 24; sh += 8) {
+    int d = (int)(a >> sh & 255) - (int)(b >> sh & 255);
+    if (d < 0) d = -d;
+    if (d > m) m = d;
+  }
+  return m;
+}
+
+u32 average(u32 a, u32 b) {
+  // per channel (a + b + 1) / 2
+  return 0xff000000u | (((a | b) & 0x010101u) + (a >> 1 & 0x7f7f7fu) + (b >> 1 & 0x7f7f7fu));
+}
+
+// The midpoint of a side (slot side[mid], the ends side[0] and side[len]):
+// estimated from the ends when their records are equal, else traced.
+void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
+  if (side.st[mid] != kUnknown) return;
+  if (len <= RT64K_ESTIMATE_SIDES &&
+      max_diff(side.s[0].packed, side.s[len].packed) <= RT64K_ESTIMATE_DIFF &&
+      same_path(side.s[0].path, side.s[len].path)) {
+    side.s[mid].packed = average(side.s[0].packed, side.s[len].packed);
+    side.s[mid].path = side.s[0].path;
+    side.st[mid] = kEstimated;
+    return;
+  }
+  request(c, x, y, side + mid);
 }
 
 Edge allocate(Context& c, int count) {
@@ -213,45 +252,16 @@ void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
 void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
   mark(f, b, kCopied);
   if (f.showBlocks) packed = tint_copied(packed);
-  for (int y = b.y0; y < b.yEnd; ++y) {
-    u32* row = f.fb + y * f.stride;
-    for (int x = b.x0; x < b.xEnd; ++x)
-      row[x] = packed;
-  }
+  adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-// Bilinear interpolation of the packed corner colours in 8.16 fixed point:
-// each channel's value at the block's left and right edge is stepped down the
-// rows, and along each row by a constant increment. Rounds to nearest.
 void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
   mark(f, b, kInterpolated);
-  int spanX = b.x1 - b.x0, spanY = b.y1 - b.y0;
-  i32 invX = spanX ? 65536 / spanX : 0, invY = spanY ? 65536 / spanY : 0;
-  for (int y = b.y0; y < b.yEnd; ++y) {
-    i32 wy = (y - b.y0) * invY; // 16-bit fraction
-    if (y == b.y1) wy = 65536;
-    u32* row = f.fb + y * f.stride;
-    i32 value[3], step[3], right[3];
-    for (int ch = 0; ch < 3; ++ch) {
-      int sh = 16 - 8 * ch;
-      i32 a = (i32)(c00 >> sh & 255), bb = (i32)(c01 >> sh & 255);
-      i32 c = (i32)(c10 >> sh & 255), d = (i32)(c11 >> sh & 255);
-      i32 l = (a << 16) + (bb - a) * wy; // left edge, 8.16
-      i32 r = (c << 16) + (d - c) * wy;  // right edge
-      value[ch] = l + 32768;             // + 0.5 rounds to nearest
-      right[ch] = r + 32768;
-      step[ch] = (i32)(((long long)(r - l) * invX) >> 16);
-    }
-    for (int x = b.x0; x < b.xEnd; ++x) {
-      // Only a block at the image's right edge owns its right corner column:
-      // that column takes the right edge's value exactly.
-      const i32* v = x == b.x1 ? right : value;
-      u32 p = 0xff000000u | (u32)(v[0] >> 16) << 16 | (u32)(v[1] >> 16) << 8 | (u32)(v[2] >> 16);
-      row[x] = f.showBlocks ? tint_interpolated(p) : p;
-      for (int ch = 0; ch < 3; ++ch)
-        value[ch] += step[ch];
-    }
-  }
+  adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
+  if (!f.showBlocks) return;
+  for (int y = b.y0; y < b.yEnd; ++y)
+    for (int x = b.x0; x < b.xEnd; ++x)
+      f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
 }
 
 // Blocks this size or smaller are traced per pixel.
@@ -315,13 +325,13 @@ void process_group(Context& c, Node* nodes, int count) {
     n.splitY = n.ym != n.y1;
     int a = n.xm - n.x0, b = n.ym - n.y0;
     if (n.splitX) {
-      request(c, n.xm, n.y0, n.top + a);
-      request(c, n.xm, n.y1, n.bottom + a);
+      request_midpoint(c, n.xm, n.y0, n.top, a, w);
+      request_midpoint(c, n.xm, n.y1, n.bottom, a, w);
       n.v = allocate(c, h + 1);
     }
     if (n.splitY) {
-      request(c, n.x0, n.ym, n.left + b);
-      request(c, n.x1, n.ym, n.right + b);
+      request_midpoint(c, n.x0, n.ym, n.left, b, h);
+      request_midpoint(c, n.x1, n.ym, n.right, b, h);
       n.h = allocate(c, w + 1);
     }
     if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
@@ -442,6 +452,87 @@ BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, cons
   if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
     return kCopied;
   return mode == kModeAdaptive ? kInterpolated : kSplit;
+}
+
+// SSE2 through GCC's vector extensions (as trace.cpp): no intrinsics
+// header, which would pull in the C library's.
+typedef i32 v4i __attribute__((vector_size(16)));
+typedef short v8s __attribute__((vector_size(16)));
+typedef char v16c __attribute__((vector_size(16)));
+typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
+
+void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {
+  v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
+  for (int y = y0; y < yEnd; ++y) {
+    u32* row = fb + y * stride;
+    int x = x0;
+    for (; x + 4 <= xEnd; x += 4)
+      *(v4i_unaligned*)(row + x) = four;
+    for (; x < xEnd; ++x)
+      row[x] = packed;
+  }
+}
+
+namespace {
+
+typedef float v4f __attribute__((vector_size(16)));
+
+// A packed colour's channels as floats, lanes blue, green, red, alpha (255).
+inline v4f channels(u32 c) {
+  v4i zero = {0, 0, 0, 0}, word = {(i32)(c | 0xff000000u), 0, 0, 0};
+  v8s lo = (v8s)__builtin_ia32_punpcklbw128((v16c)word, (v16c)zero);
+  return __builtin_convertvector((v4i)__builtin_ia32_punpcklwd128(lo, (v8s)zero), v4f);
+}
+
+// Four pixels' channel values to four packed pixels: rounded to nearest
+// (cvtps2dq), then saturating packs to bytes.
+inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
+  v8s lo = __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p0), __builtin_ia32_cvtps2dq(p1));
+  v8s hi = __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p2), __builtin_ia32_cvtps2dq(p3));
+  return __builtin_ia32_packuswb128(lo, hi);
+}
+
+inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
+
+} // namespace
+
+// Per row, each channel's value at the block's left and right side; along
+// the row a constant step: one pixel's four channels per SSE2 register,
+// four pixels per step. Exact at the corners: row y0 starts at c00 (step
+// 0 from it), row y1 is c01 and c11 themselves, column x1 is the right side.
+void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
+                          u32 c00, u32 c10, u32 c01, u32 c11) {
+  int spanX = x1 - x0, spanY = y1 - y0;
+  v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
+  float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
+  v4f downLeft = (c - a) * invY, downRight = (d - b) * invY; // per row
+  int stepEnd = xEnd > x1 ? x1 : xEnd; // pixels reached by stepping; x1 itself is exact
+  for (int y = y0; y < yEnd; ++y) {
+    v4f left = c, right = d;
+    if (y != y1) {
+      float fy = (float)(y - y0);
+      left = a + downLeft * fy;
+      right = b + downRight * fy;
+    }
+    v4f step = (right - left) * invX;
+    v4f p0 = left, p1 = left + step, p2 = left + step * 2.0f, p3 = left + step * 3.0f;
+    v4f step4 = step * 4.0f;
+    u32* row = fb + y * stride;
+    int x = x0;
+    for (; x + 4 <= stepEnd; x += 4) {
+      *(v4i_unaligned*)(row + x) = (v4i)pack_pixels(p0, p1, p2, p3);
+      p0 += step4;
+      p1 += step4;
+      p2 += step4;
+      p3 += step4;
+    }
+    for (; x < stepEnd; ++x) {
+      row[x] = pack_pixel(p0);
+      p0 += step;
+    }
+    // Only a block at the image's right edge owns its right corner column.
+    if (xEnd > x1) row[x1] = pack_pixel(right);
+  }
 }
 
 u32 tint_copied(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff800000u; }

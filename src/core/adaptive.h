@@ -84,6 +84,18 @@ int adaptive_items(const AdaptiveFrame& f, int phase);
 // Runs one work item; adds the rays it cast to *stats (not null).
 void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats);
 
+// The pixels [x0, xEnd) x [y0, yEnd) of fb (`stride` pixels per row) set to
+// `packed` (colour copy), with SSE2.
+void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed);
+
+// Bilinear interpolation over the pixels [x0, xEnd) x [y0, yEnd) of fb
+// (xEnd <= x1 + 1, yEnd <= y1 + 1) of the packed colours c00 at (x0, y0),
+// c10 at (x1, y0), c01 at (x0, y1), c11 at (x1, y1): 8.16 fixed point per
+// channel, rounded to nearest, exact at the corners; alpha 255. SSE2, four
+// pixels a step.
+void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
+                          u32 c00, u32 c10, u32 c01, u32 c11);
+
 // The showBlocks tints (thesis fig. 5.1: red = colour copy, blue = interpolated).
 u32 tint_copied(u32 packed);
 u32 tint_interpolated(u32 packed);

@@ -265,6 +265,36 @@ TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   }
 }
 
+// A sphere 3 pixels across in the middle of a block, between its corners:
+// without the small-object test the block is copied from its corners (all
+// background) and the sphere vanishes. Its projected bound marks the block,
+// which is split down to traced pixels, so the picture is the full trace's.
+TEST(AdaptiveFrame, SmallObjectBetweenCornersIsFound) {
+  Scene s;
+  base_scene(s);
+  Material flat = matte(v3(0.9f, 0.1f, 0.1f));
+  flat.diffuse = 0;  // ambient only: one flat colour, so traced pixels are exact
+  constexpr int kN = 64;
+  // Pixel (px, py) looks along ((px + 0.5) / 32 - 1, 1 - (py + 0.5) / 32, 1).
+  for (Vec3 pixel : {v3(12, 12, 0), v3(43.5f, 20, 0), v3(28, 52.5f, 0)}) {
+    Scene one = s;
+    Vec3 dir = v3((pixel.x + 0.5f) / 32 - 1, 1 - (pixel.y + 0.5f) / 32, 1);
+    scene_add(one, make_sphere(dir * 10.0f, 0.45f), flat);  // ~0.3125 units a pixel at z = 10
+    Image img(kN, kN), full(kN, kN);
+    RenderOptions opt;
+    opt.threads = 2;
+    render_frame(one, img, opt, nullptr);
+    RenderOptions fo;
+    fo.mode = Mode::Full;
+    render_frame(one, full, fo, nullptr);
+    size_t sphere = 0;
+    for (uint32_t p : full.pixels) sphere += p != pack_color(s.background);
+    EXPECT_GE(sphere, 4u);  // the sphere is in the picture
+    EXPECT_LE(sphere, 16u);  // and smaller than a block
+    EXPECT_EQ(img.pixels, full.pixels) << "sphere at pixel " << pixel.x << "," << pixel.y;
+  }
+}
+
 // No sample is traced twice (issue 9): the renderer counts in bits 6-7 of
 // `kinds` the samples traced at each pixel. Every count is 0 or 1, and they
 // add up to the primary rays cast, for any thread count and at odd sizes

@@ -22,6 +22,13 @@ typedef CornerSample Sample;
 
 enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 
+// An object is small, and looked for between corners, when its bounding
+// sphere's screen rectangle is at most kSmallObjectBlocks base blocks wide
+// and high. (A larger object can still slip between corners where it is
+// thin; that is not looked for.)
+// (EXPERIMENT: RT64K_SMALL_BOUND overrides it in pixels.)
+constexpr int kSmallObjectBlocks = 2;
+
 // EXPERIMENT: longest side whose midpoint may be estimated (0: none), and the
 // largest channel difference of its ends.
 #ifndef RT64K_ESTIMATE_SIDES
@@ -264,6 +271,69 @@ void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c0
       f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
 }
 
+bool sees(const Sample& s, int object) { return (int)(s.path.node[0] & 31) == object + 1; }
+
+// A block that a small object's projected bound overlaps and none of whose
+// corners sees the object directly.
+bool hides_small_object(const AdaptiveFrame& f, const Node& n, const Sample& c00, const Sample& c10,
+                        const Sample& c01, const Sample& c11) {
+  for (int i = 0; i < f.numSmall; ++i) {
+    const AdaptiveFrame::SmallObject& o = f.small[i];
+    if (o.x1 < n.x0 || o.x0 > n.x1 || o.y1 < n.y0 || o.y0 > n.y1) continue;
+    if (!sees(c00, o.object) && !sees(c10, o.object) && !sees(c01, o.object) &&
+        !sees(c11, o.object))
+      return true;
+  }
+  return false;
+}
+
+// The screen rectangles of the small objects' bounding spheres (Mara and
+// McGuire 2013, "2D polyhedral bounds of a clipped, perspective-projected 3D
+// sphere": per screen axis, the two planes through the eye tangent to the
+// sphere). Objects reaching behind the eye, or not small, are left out.
+void find_small_objects(AdaptiveFrame& f) {
+  f.numSmall = 0;
+#ifdef RT64K_SMALL_BOUND
+  float largest = (float)RT64K_SMALL_BOUND;
+#else
+  float largest = (float)(kSmallObjectBlocks * f.baseBlock);
+#endif
+  const Scene& s = *f.scene;
+  const CameraRays& c = f.cam;
+  float pixel = length(c.dx);
+  Vec3 right = c.dx * (1.0f / pixel), up = c.dy * (-1.0f / pixel);
+  Vec3 fwd = c.corner + c.dx * (0.5f * (float)f.width) + c.dy * (0.5f * (float)f.height);
+  for (int i = 0; i < s.numObjects; ++i) {
+    float r = s.boundR[i];
+    if (!(r > 0) || r >= kHuge) continue; // unused slot or unbounded
+    Vec3 p = v3(s.boundX[i], s.boundY[i], s.boundZ[i]) - c.org;
+    float u = dot(p, right), v = dot(p, up), w = dot(p, fwd);
+    if (w <= r * 1.001f) continue; // reaches the eye's plane: not small
+    float den = w * w - r * r;
+    float range[2][2]; // [axis][min, max] of the tangent ratios
+    float along[2] = {u, v};
+    for (int axis = 0; axis < 2; ++axis) {
+      float a = along[axis], root = rt_sqrt(rt_max(a * a + den, 0.0f)) * r;
+      range[axis][0] = (a * w - root) / den;
+      range[axis][1] = (a * w + root) / den;
+    }
+    // Screen x = ratio / pixel + width / 2 - 1/2; y flips. One pixel of
+    // margin for rounding.
+    float x0 = range[0][0] / pixel + 0.5f * (float)f.width - 1.5f;
+    float x1 = range[0][1] / pixel + 0.5f * (float)f.width + 0.5f;
+    float y0 = -range[1][1] / pixel + 0.5f * (float)f.height - 1.5f;
+    float y1 = -range[1][0] / pixel + 0.5f * (float)f.height + 0.5f;
+    if (x1 - x0 > largest || y1 - y0 > largest) continue;
+    if (x1 < 0 || y1 < 0 || x0 > (float)f.width || y0 > (float)f.height) continue;
+    AdaptiveFrame::SmallObject& o = f.small[f.numSmall++];
+    o.x0 = (int)rt_floor(x0);
+    o.y0 = (int)rt_floor(y0);
+    o.x1 = (int)rt_floor(x1) + 1;
+    o.y1 = (int)rt_floor(y1) + 1;
+    o.object = i;
+  }
+}
+
 // Blocks this size or smaller are traced per pixel.
 bool is_small(const AdaptiveFrame& f, int w, int h) {
   return (w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2);
@@ -305,6 +375,7 @@ void process_group(Context& c, Node* nodes, int count) {
     const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
     const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
+    if (n.kind != kSplit && hides_small_object(f, n, c00, c10, c01, c11)) n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);
       continue;
@@ -551,6 +622,7 @@ void adaptive_begin(AdaptiveFrame& f) {
   f.cam = camera_rays(f.scene->camera, f.width, f.height);
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
+  find_small_objects(f);
 }
 
 int adaptive_items(const AdaptiveFrame& f, int phase) {

@@ -61,6 +61,14 @@ struct AdaptiveFrame {
   // Set by adaptive_begin().
   CameraRays cam;
   int gridW, gridH; // corners per row / column
+  // Objects whose bounding sphere projects to a small rectangle of the
+  // screen (pixels [x0, x1] x [y0, y1]): a block inside one whose corners
+  // all miss the object is split (an object smaller than a block would
+  // otherwise vanish between its corners).
+  struct SmallObject {
+    int x0, y0, x1, y1, object;
+  } small[kMaxObjects];
+  int numSmall;
 };
 
 enum BlockKind : u8 { kTraced, kCopied, kInterpolated, kSplit };

@@ -265,34 +265,59 @@ TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   }
 }
 
-// A sphere 3 pixels across in the middle of a block, between its corners:
-// without the small-object test the block is copied from its corners (all
-// background) and the sphere vanishes. Its projected bound marks the block,
-// which is split down to traced pixels, so the picture is the full trace's.
-TEST(AdaptiveFrame, SmallObjectBetweenCornersIsFound) {
+// A glass sphere filling the view over a flat background: every corner's
+// record is the same (glass, its far side, the background), so without the
+// glass rule every 8-pixel block would be interpolated from its corners.
+// Blocks that see glass are interpolated only at 4 pixels: every 8-pixel
+// block is split, so its centre (a fresh sample, never estimated) is traced.
+// With an opaque sphere the 8-pixel blocks are interpolated: no centre is.
+TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
   Scene s;
   base_scene(s);
-  Material flat = matte(v3(0.9f, 0.1f, 0.1f));
-  flat.diffuse = 0;  // ambient only: one flat colour, so traced pixels are exact
-  constexpr int kN = 64;
-  // Pixel (px, py) looks along ((px + 0.5) / 32 - 1, 1 - (py + 0.5) / 32, 1).
-  for (Vec3 pixel : {v3(12, 12, 0), v3(43.5f, 20, 0), v3(28, 52.5f, 0)}) {
-    Scene one = s;
-    Vec3 dir = v3((pixel.x + 0.5f) / 32 - 1, 1 - (pixel.y + 0.5f) / 32, 1);
-    scene_add(one, make_sphere(dir * 10.0f, 0.45f), flat);  // ~0.3125 units a pixel at z = 10
-    Image img(kN, kN), full(kN, kN);
+  Material glass = matte(v3(0.9f));
+  glass.diffuse = 0;
+  glass.transmit = 0.9f;
+  glass.ior = 1.5f;
+  scene_add(s, make_sphere(v3(0, 0, 30), 29), glass);
+  constexpr int kW = 65, kH = 49;  // corners on every 8th pixel up to the last
+  for (bool transparent : {true, false}) {
+    s.objects[0].mat.transmit = transparent ? 0.9f : 0.0f;
+    Image img(kW, kH);
+    std::vector<uint8_t> kinds(kW * kH, kUnset);
     RenderOptions opt;
+    opt.block = 8;
     opt.threads = 2;
-    render_frame(one, img, opt, nullptr);
-    RenderOptions fo;
-    fo.mode = Mode::Full;
-    render_frame(one, full, fo, nullptr);
-    size_t sphere = 0;
-    for (uint32_t p : full.pixels) sphere += p != pack_color(s.background);
-    EXPECT_GE(sphere, 4u);  // the sphere is in the picture
-    EXPECT_LE(sphere, 16u);  // and smaller than a block
-    EXPECT_EQ(img.pixels, full.pixels) << "sphere at pixel " << pixel.x << "," << pixel.y;
+    opt.kinds = kinds.data();
+    render_frame(s, img, opt, nullptr);
+    int centres = 0, smooth = 0;
+    for (int y = 4; y < kH; y += 8)
+      for (int x = 4; x < kW; x += 8) centres += kinds[size_t(y * kW + x)] >> kSampleCountShift;
+    for (uint8_t k : kinds) smooth += (k & kKindMask) != kTraced;
+    EXPECT_EQ(centres, transparent ? (kW / 8) * (kH / 8) : 0) << "transparent " << transparent;
+    EXPECT_GT(smooth, kW * kH * 3 / 4) << "transparent " << transparent;
   }
+}
+
+// A side's midpoint is estimated from its ends when their records agree and
+// their colours are within 16/255 per channel: the rounded mean colour.
+TEST(AdaptiveEstimate, EqualRecordsAndCloseColours) {
+  CornerSample a{}, b{}, mid{};
+  a.path.count = b.path.count = 2;
+  a.path.node[0] = b.path.node[0] = 3;
+  a.path.node[1] = b.path.node[1] = 5 | 4 << 5;
+  a.packed = 0xff102030u;
+  b.packed = 0xff203021u;  // red +16, green +16, blue -15
+  ASSERT_TRUE(adaptive_estimate(a, b, mid));
+  EXPECT_EQ(mid.packed, 0xff182829u);  // (16+32+1)/2 = 24, (32+48+1)/2 = 40, (48+33+1)/2 = 41
+  EXPECT_TRUE(same_path(mid.path, a.path));
+  b.packed = 0xff213021u;  // red +17: too far apart
+  EXPECT_FALSE(adaptive_estimate(a, b, mid));
+  b.packed = 0xff000000u | (a.packed & 0xffffffu);
+  b.path.node[1] = 5;  // no highlight at b: another record
+  EXPECT_FALSE(adaptive_estimate(a, b, mid));
+  b.path = a.path;
+  b.path.count = 1;
+  EXPECT_FALSE(adaptive_estimate(a, b, mid));
 }
 
 // No sample is traced twice (issue 9): the renderer counts in bits 6-7 of

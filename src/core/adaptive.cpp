@@ -20,23 +20,25 @@ namespace {
 
 typedef CornerSample Sample;
 
+// Per block or per band, not per pixel: kept out of line, which saves bytes
+// in intro.exe for a call's few instructions.
+#define RT64K_COLD __attribute__((noinline))
+
 enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 
-// An object is small, and looked for between corners, when its bounding
-// sphere's screen rectangle is at most kSmallObjectBlocks base blocks wide
-// and high. (A larger object can still slip between corners where it is
-// thin; that is not looked for.)
-// (EXPERIMENT: RT64K_SMALL_BOUND overrides it in pixels.)
-constexpr int kSmallObjectBlocks = 2;
+// A side's midpoint is estimated instead of traced when the records at its
+// two ends are equal and no colour channel differs between them by more than
+// kEstimateContrast / 255: the midpoint takes their record and the rounded
+// mean of their colours. Measured in docs/speed-vs-error.md (-11 % samples;
+// without the contrast limit the flicker figure got worse).
+constexpr int kEstimateContrast = 16;
 
-// EXPERIMENT: longest side whose midpoint may be estimated (0: none), and the
-// largest channel difference of its ends.
-#ifndef RT64K_ESTIMATE_SIDES
-#define RT64K_ESTIMATE_SIDES 0
-#endif
-#ifndef RT64K_ESTIMATE_DIFF
-#define RT64K_ESTIMATE_DIFF 255
-#endif
+// A block whose corners see a transparent object (at any recorded depth) is
+// copied or interpolated only when it is at most kGlassBlock pixels wide and
+// high, else split. Glass shows a minified image of what lies behind and
+// around it, whose edges partly go unrecorded (deeper than kRecordDepth, or
+// reflections weaker than kRecordWeight); measured in docs/speed-vs-error.md.
+constexpr int kGlassBlock = 4;
 
 struct Edge {
   Sample* s;
@@ -143,30 +145,28 @@ void request_pixel(Context& c, int x, int y) {
   if (++b.n == kBatch) flush(c);
 }
 
-int max_diff(u32 a, u32 b) {
-  int m = 0;
+} // namespace
+
+bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
+  if (!same_path(a.path, b.path)) return false;
   for (int sh = 0; sh < 24; sh += 8) {
-    int d = (int)(a >> sh & 255) - (int)(b >> sh & 255);
-    if (d < 0) d = -d;
-    if (d > m) m = d;
+    int d = (int)(a.packed >> sh & 255) - (int)(b.packed >> sh & 255);
+    if (d > kEstimateContrast || -d > kEstimateContrast) return false;
   }
-  return m;
+  // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
+  mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
+                              (b.packed >> 1 & 0x7f7f7fu));
+  mid.path = a.path;
+  return true;
 }
 
-u32 average(u32 a, u32 b) {
-  // per channel (a + b + 1) / 2
-  return 0xff000000u | (((a | b) & 0x010101u) + (a >> 1 & 0x7f7f7fu) + (b >> 1 & 0x7f7f7fu));
-}
+namespace {
 
-// The midpoint of a side (slot side[mid], the ends side[0] and side[len]):
-// estimated from the ends when their records are equal, else traced.
+// The midpoint of a side (slot side[mid], ends side[0] and side[len]):
+// estimated (adaptive_estimate) or asked for.
 void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   if (side.st[mid] != kUnknown) return;
-  if (len <= RT64K_ESTIMATE_SIDES &&
-      max_diff(side.s[0].packed, side.s[len].packed) <= RT64K_ESTIMATE_DIFF &&
-      same_path(side.s[0].path, side.s[len].path)) {
-    side.s[mid].packed = average(side.s[0].packed, side.s[len].packed);
-    side.s[mid].path = side.s[0].path;
+  if (adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
     side.st[mid] = kEstimated;
     return;
   }
@@ -256,13 +256,14 @@ void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
     }
 }
 
-void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
+RT64K_COLD void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
   mark(f, b, kCopied);
   if (f.showBlocks) packed = tint_copied(packed);
   adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+RT64K_COLD void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01,
+                            u32 c11) {
   mark(f, b, kInterpolated);
   adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
   if (!f.showBlocks) return;
@@ -271,67 +272,12 @@ void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c0
       f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
 }
 
-bool sees(const Sample& s, int object) { return (int)(s.path.node[0] & 31) == object + 1; }
-
-// A block that a small object's projected bound overlaps and none of whose
-// corners sees the object directly.
-bool hides_small_object(const AdaptiveFrame& f, const Node& n, const Sample& c00, const Sample& c10,
-                        const Sample& c01, const Sample& c11) {
-  for (int i = 0; i < f.numSmall; ++i) {
-    const AdaptiveFrame::SmallObject& o = f.small[i];
-    if (o.x1 < n.x0 || o.x0 > n.x1 || o.y1 < n.y0 || o.y0 > n.y1) continue;
-    if (!sees(c00, o.object) && !sees(c10, o.object) && !sees(c01, o.object) &&
-        !sees(c11, o.object))
-      return true;
+bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
+  for (int i = 0; i < s.path.count; ++i) {
+    int id = (int)(s.path.node[i] & 31) - 1;
+    if (id >= 0 && f.scene->objects[id].mat.transmit > 0) return true;
   }
   return false;
-}
-
-// The screen rectangles of the small objects' bounding spheres (Mara and
-// McGuire 2013, "2D polyhedral bounds of a clipped, perspective-projected 3D
-// sphere": per screen axis, the two planes through the eye tangent to the
-// sphere). Objects reaching behind the eye, or not small, are left out.
-void find_small_objects(AdaptiveFrame& f) {
-  f.numSmall = 0;
-#ifdef RT64K_SMALL_BOUND
-  float largest = (float)RT64K_SMALL_BOUND;
-#else
-  float largest = (float)(kSmallObjectBlocks * f.baseBlock);
-#endif
-  const Scene& s = *f.scene;
-  const CameraRays& c = f.cam;
-  float pixel = length(c.dx);
-  Vec3 right = c.dx * (1.0f / pixel), up = c.dy * (-1.0f / pixel);
-  Vec3 fwd = c.corner + c.dx * (0.5f * (float)f.width) + c.dy * (0.5f * (float)f.height);
-  for (int i = 0; i < s.numObjects; ++i) {
-    float r = s.boundR[i];
-    if (!(r > 0) || r >= kHuge) continue; // unused slot or unbounded
-    Vec3 p = v3(s.boundX[i], s.boundY[i], s.boundZ[i]) - c.org;
-    float u = dot(p, right), v = dot(p, up), w = dot(p, fwd);
-    if (w <= r * 1.001f) continue; // reaches the eye's plane: not small
-    float den = w * w - r * r;
-    float range[2][2]; // [axis][min, max] of the tangent ratios
-    float along[2] = {u, v};
-    for (int axis = 0; axis < 2; ++axis) {
-      float a = along[axis], root = rt_sqrt(rt_max(a * a + den, 0.0f)) * r;
-      range[axis][0] = (a * w - root) / den;
-      range[axis][1] = (a * w + root) / den;
-    }
-    // Screen x = ratio / pixel + width / 2 - 1/2; y flips. One pixel of
-    // margin for rounding.
-    float x0 = range[0][0] / pixel + 0.5f * (float)f.width - 1.5f;
-    float x1 = range[0][1] / pixel + 0.5f * (float)f.width + 0.5f;
-    float y0 = -range[1][1] / pixel + 0.5f * (float)f.height - 1.5f;
-    float y1 = -range[1][0] / pixel + 0.5f * (float)f.height + 0.5f;
-    if (x1 - x0 > largest || y1 - y0 > largest) continue;
-    if (x1 < 0 || y1 < 0 || x0 > (float)f.width || y0 > (float)f.height) continue;
-    AdaptiveFrame::SmallObject& o = f.small[f.numSmall++];
-    o.x0 = (int)rt_floor(x0);
-    o.y0 = (int)rt_floor(y0);
-    o.x1 = (int)rt_floor(x1) + 1;
-    o.y1 = (int)rt_floor(y1) + 1;
-    o.object = i;
-  }
 }
 
 // Blocks this size or smaller are traced per pixel.
@@ -341,7 +287,7 @@ bool is_small(const AdaptiveFrame& f, int w, int h) {
 
 // Asks for every pixel of a small block: those on its sides into their
 // slots (other blocks may read them), the rest straight into the picture.
-void request_block(Context& c, const Node& n) {
+RT64K_COLD void request_block(Context& c, const Node& n) {
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {
       Edge e = side_slot(n, x, y);
@@ -353,7 +299,7 @@ void request_block(Context& c, const Node& n) {
 }
 
 // After the batch: the pixels of a small block that lie on its sides.
-void write_block_sides(const AdaptiveFrame& f, const Node& n) {
+RT64K_COLD void write_block_sides(const AdaptiveFrame& f, const Node& n) {
   mark(f, n, kTraced);
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {
@@ -375,7 +321,9 @@ void process_group(Context& c, Node* nodes, int count) {
     const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
     const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
-    if (n.kind != kSplit && hides_small_object(f, n, c00, c10, c01, c11)) n.kind = kSplit;
+    // Not split: the four records are equal, so c00's stands for all.
+    if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
+      n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);
       continue;
@@ -421,25 +369,26 @@ void process_group(Context& c, Node* nodes, int count) {
       copy_slot(n.h, 0, n.left, b);
       copy_slot(n.h, w, n.right, b);
     }
+    if (n.splitX && n.splitY) copy_slot(n.h, a, n.v, b);
+    // The children: quadrants (qx, qy), two halves when one side is not
+    // split (then xm = x1 or ym = y1, and that side's arrays are the block's).
     Node kids[4];
-    int k = 0;
-    if (n.splitX && n.splitY) {
-      copy_slot(n.h, a, n.v, b);
-      kids[k++] = make_node(n.x0, n.y0, n.xm, n.ym, n.xm, n.ym, n.top, n.h, n.left, n.v);
-      kids[k++] = make_node(n.xm, n.y0, n.x1, n.ym, n.xEnd, n.ym, n.top + a, n.h + a, n.v, n.right);
-      kids[k++] =
-          make_node(n.x0, n.ym, n.xm, n.y1, n.xm, n.yEnd, n.h, n.bottom, n.left + b, n.v + b);
-      kids[k++] = make_node(n.xm, n.ym, n.x1, n.y1, n.xEnd, n.yEnd, n.h + a, n.bottom + a, n.v + b,
-                            n.right + b);
-    } else if (n.splitX) { // a block one pixel high (or flat): left and right halves
-      kids[k++] = make_node(n.x0, n.y0, n.xm, n.y1, n.xm, n.yEnd, n.top, n.bottom, n.left, n.v);
-      kids[k++] =
-          make_node(n.xm, n.y0, n.x1, n.y1, n.xEnd, n.yEnd, n.top + a, n.bottom + a, n.v, n.right);
-    } else { // a block one pixel wide (or thin): top and bottom halves
-      kids[k++] = make_node(n.x0, n.y0, n.x1, n.ym, n.xEnd, n.ym, n.top, n.h, n.left, n.right);
-      kids[k++] =
-          make_node(n.x0, n.ym, n.x1, n.y1, n.xEnd, n.yEnd, n.h, n.bottom, n.left + b, n.right + b);
-    }
+    int k = 0, nx = n.splitX ? 2 : 1, ny = n.splitY ? 2 : 1;
+    for (int qy = 0; qy < ny; ++qy)
+      for (int qx = 0; qx < nx; ++qx) {
+        Node& kid = kids[k++];
+        kid.x0 = qx ? n.xm : n.x0;
+        kid.x1 = qx || nx == 1 ? n.x1 : n.xm;
+        kid.xEnd = qx == nx - 1 ? n.xEnd : n.xm;
+        kid.y0 = qy ? n.ym : n.y0;
+        kid.y1 = qy || ny == 1 ? n.y1 : n.ym;
+        kid.yEnd = qy == ny - 1 ? n.yEnd : n.ym;
+        int dx = qx ? a : 0, dy = qy ? b : 0;
+        kid.top = (qy ? n.h : n.top) + dx;
+        kid.bottom = (qy == ny - 1 ? n.bottom : n.h) + dx;
+        kid.left = (qx ? n.v : n.left) + dy;
+        kid.right = (qx == nx - 1 ? n.right : n.v) + dy;
+      }
     process_group(c, kids, k);
   }
   c.used = used;
@@ -452,7 +401,7 @@ int line_owner(int k, int bands) {
   return k - 1;
 }
 
-void trace_line(Context& c, int k) {
+RT64K_COLD void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
   Edge line = line_edge(f, k);
   for (int x = 0; x < f.width; ++x)
@@ -474,7 +423,7 @@ void trace_line(Context& c, int k) {
 
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
-void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
+RT64K_COLD void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
   for (int i = 1; i < h; ++i)
     col.st[i] = kUnknown;
   copy_slot(col, 0, top, x);
@@ -622,7 +571,6 @@ void adaptive_begin(AdaptiveFrame& f) {
   f.cam = camera_rays(f.scene->camera, f.width, f.height);
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
-  find_small_objects(f);
 }
 
 int adaptive_items(const AdaptiveFrame& f, int phase) {

@@ -7,6 +7,12 @@
 //   * else all four PathRecords identical     -> bilinear interpolation;
 //   * else, larger than `minBlock`            -> split into four and repeat;
 //   * else                                    -> trace every pixel.
+// Ours beyond the thesis (issue 9, measured in docs/speed-vs-error.md): a
+// block whose corners see glass is filled or interpolated only up to
+// kGlassBlock (4) pixels, else split; and when a block splits, the midpoint
+// of a side whose ends have equal records and colours within
+// kEstimateContrast is estimated from them instead of traced
+// (adaptive_estimate; a pixel traced per pixel is always traced).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
 // has exactly one writer and the picture is the same for any thread count.
@@ -61,14 +67,6 @@ struct AdaptiveFrame {
   // Set by adaptive_begin().
   CameraRays cam;
   int gridW, gridH; // corners per row / column
-  // Objects whose bounding sphere projects to a small rectangle of the
-  // screen (pixels [x0, x1] x [y0, y1]): a block inside one whose corners
-  // all miss the object is split (an object smaller than a block would
-  // otherwise vanish between its corners).
-  struct SmallObject {
-    int x0, y0, x1, y1, object;
-  } small[kMaxObjects];
-  int numSmall;
 };
 
 enum BlockKind : u8 { kTraced, kCopied, kInterpolated, kSplit };
@@ -78,6 +76,12 @@ constexpr int kSampleCountShift = 6;
 // The decision for a block with these four corner samples.
 BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
                           const CornerSample& c11, AdaptiveMode mode);
+
+// The midpoint of a block's side whose ends are a and b, estimated instead
+// of traced: when the records of a and b are equal and their colours differ
+// by at most kEstimateContrast / 255 per channel (adaptive.cpp), sets mid to
+// their record and rounded mean colour and returns true.
+bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid);
 
 // Number of CornerSample entries the caller's `corners` buffer needs for a
 // frame of this size and base block (baseBlock in 2..kMaxBaseBlock).

@@ -13,7 +13,8 @@
 //     from the band's scratch, shared by its four children.
 // A corner or midpoint that is an end of several arrays is copied into each
 // once it is traced. Each slot has a state: unknown, pending (in the current
-// batch) or known.
+// batch), known (traced) or estimated (adaptive_estimate; traced after all
+// if a block traced per pixel needs it).
 #include "adaptive.h"
 
 namespace {
@@ -79,7 +80,7 @@ struct Context {
   RayStats* stats;
   Batch batch;
   Edge scratch; // the band's scratch for inner lines; `used` entries taken
-  int used, capacity;
+  int used;
 };
 
 Sample trace_sample(const AdaptiveFrame& f, int x, int y, RayStats* stats) {
@@ -119,8 +120,8 @@ void flush(Context& c) {
   b.n = 0;
 }
 
-// Asks for the sample at (x, y) into slot e[0] (traced unless known or
-// already asked for).
+// Asks for the sample at (x, y) into slot e[0]: traced unless already
+// traced or asked for (an estimated sample is traced).
 void request(Context& c, int x, int y, Edge e) {
   if (*e.st != kUnknown && *e.st != kEstimated) return;
   *e.st = kPending;
@@ -218,7 +219,9 @@ int grid_coord(int i, int block, int size) {
 
 // Scratch entries one band needs: two column arrays of baseBlock + 1, and
 // the inner lines of the split blocks alive at once (one node at the base
-// level, four per finer level; a child is at most half its parent, rounded up).
+// level, four per finer level; a child is at most half its parent, rounded
+// up). The bound is reached (an instrumented build, every block split down
+// to minBlock 1, base blocks 2..256).
 int band_scratch(int baseBlock) {
   int total = 2 * (baseBlock + 1) + 2 * (baseBlock + 1);
   for (int s = (baseBlock + 1) / 2; s >= 2; s = (s + 1) / 2)

@@ -63,6 +63,9 @@ struct Node {
   Edge v, h; // the inner lines x = xm (0..h) and y = ym (0..w)
 };
 
+// Most blocks processed as one group (their new samples in one batch).
+constexpr int kGroup = 16;
+
 // Samples gathered for one call of trace_samples. A full batch is traced at
 // once; no sample of a batch depends on another, so any cut is fine.
 constexpr int kBatch = 32;
@@ -218,14 +221,15 @@ int grid_coord(int i, int block, int size) {
 }
 
 // Scratch entries one band needs: two column arrays of baseBlock + 1, and
-// the inner lines of the split blocks alive at once (one node at the base
-// level, four per finer level; a child is at most half its parent, rounded
-// up). The bound is reached (an instrumented build, every block split down
-// to minBlock 1, base blocks 2..256).
+// the inner lines of the split blocks alive at once: per level one group of
+// blocks (one at the base level, four at the next, then at most kGroup); a
+// child is at most half its parent, rounded up.
 int band_scratch(int baseBlock) {
-  int total = 2 * (baseBlock + 1) + 2 * (baseBlock + 1);
-  for (int s = (baseBlock + 1) / 2; s >= 2; s = (s + 1) / 2)
-    total += 4 * 2 * (s + 1);
+  int total = 2 * (baseBlock + 1), nodes = 1;
+  for (int s = baseBlock; s >= 2; s = (s + 1) / 2) {
+    total += nodes * 2 * (s + 1);
+    nodes = nodes * 4 < kGroup ? nodes * 4 : kGroup;
+  }
   return total;
 }
 
@@ -359,6 +363,8 @@ void process_group(Context& c, Node* nodes, int count) {
     if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
   }
   flush(c);
+  Node kids[kGroup];
+  int k = 0;
   for (int i = 0; i < count; ++i) {
     Node& n = nodes[i];
     if (n.kind == kTraced) write_block_sides(f, n);
@@ -375,8 +381,13 @@ void process_group(Context& c, Node* nodes, int count) {
     if (n.splitX && n.splitY) copy_slot(n.h, a, n.v, b);
     // The children: quadrants (qx, qy), two halves when one side is not
     // split (then xm = x1 or ym = y1, and that side's arrays are the block's).
-    Node kids[4];
-    int k = 0, nx = n.splitX ? 2 : 1, ny = n.splitY ? 2 : 1;
+    // The children of several split blocks form one group, up to kGroup
+    // blocks: their samples go in one batch.
+    int nx = n.splitX ? 2 : 1, ny = n.splitY ? 2 : 1;
+    if (k + nx * ny > kGroup) {
+      process_group(c, kids, k);
+      k = 0;
+    }
     for (int qy = 0; qy < ny; ++qy)
       for (int qx = 0; qx < nx; ++qx) {
         Node& kid = kids[k++];
@@ -392,8 +403,8 @@ void process_group(Context& c, Node* nodes, int count) {
         kid.left = (qx ? n.v : n.left) + dy;
         kid.right = (qx == nx - 1 ? n.right : n.v) + dy;
       }
-    process_group(c, kids, k);
   }
+  if (k) process_group(c, kids, k);
   c.used = used;
 }
 

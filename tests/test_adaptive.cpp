@@ -62,8 +62,8 @@ TEST(AdaptiveDecide, SilhouetteIsSplit) {
   base_scene(s);
   scene_add(s, make_sphere(v3(0, 0, 10), 2), matte(v3(1, 0, 0)));
   scene_add_light(s, v3(0, 10, 0), v3(1));
-  EXPECT_EQ(decide_around(s, 2.0f, 0, 0.3f), kSplit);  // straddles the rim at x = 2
-  EXPECT_NE(decide_around(s, 0.0f, 0, 0.3f), kSplit);  // well inside
+  EXPECT_EQ(decide_around(s, 2.0f, 0, 0.3f), kSplit); // straddles the rim at x = 2
+  EXPECT_NE(decide_around(s, 0.0f, 0, 0.3f), kSplit); // well inside
 }
 
 // Scans the view's row y (directions (x, y, 10)) from x0 to x1 and returns
@@ -123,8 +123,8 @@ TEST(AdaptiveDecide, ReflectionEdgeIsSplit) {
   ASSERT_TRUE(e.found);
   ASSERT_GE(e.before.count, 2);
   ASSERT_GE(e.after.count, 2);
-  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);  // both see the mirror
-  EXPECT_NE(e.before.node[1] & 31u, e.after.node[1] & 31u);  // reflections differ
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u); // both see the mirror
+  EXPECT_NE(e.before.node[1] & 31u, e.after.node[1] & 31u); // reflections differ
   EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
   EXPECT_NE(decide_around(s, 0.0f, 0, 0.02f), kSplit);
 }
@@ -144,7 +144,7 @@ TEST(AdaptiveDecide, RefractionEdgeIsSplit) {
   scene_add_light(s, v3(0, 0, 0), v3(1));
   Edge e = find_edge(s, -2.5f, 2.5f, 0);
   ASSERT_TRUE(e.found);
-  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);  // both see the glass first
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u); // both see the glass first
   EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
 }
 
@@ -201,9 +201,11 @@ TEST(AdaptiveFrame, EmptySceneIsAllCopiedFromCornersOnly) {
   opt.kinds = kinds.data();
   RayStats stats;
   render_frame(s, img, opt, &stats);
-  for (uint8_t k : kinds) ASSERT_EQ(k & kKindMask, kCopied);
-  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1)));  // corners traced once
-  for (uint32_t p : img.pixels) ASSERT_EQ(p, pack_color(s.background));
+  for (uint8_t k : kinds)
+    ASSERT_EQ(k & kKindMask, kCopied);
+  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1))); // corners traced once
+  for (uint32_t p : img.pixels)
+    ASSERT_EQ(p, pack_color(s.background));
 }
 
 TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
@@ -214,9 +216,8 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   base_scene(s);
   s.background = v3(0.9f);
   Material flat = matte(v3(0.1f, 0.1f, 0.6f));
-  flat.diffuse = 0;  // ambient only: one flat colour, so every block is exact
-  scene_add(s, make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10),
-                             v3(1000, 0, 10)),
+  flat.diffuse = 0; // ambient only: one flat colour, so every block is exact
+  scene_add(s, make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10), v3(1000, 0, 10)),
             flat);
   constexpr int kN = 128;
   Image img(kN, kN), full(kN, kN);
@@ -243,12 +244,12 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
       traced += k == kTraced;
     }
   }
-  EXPECT_GE(traced, size_t(kN));  // the edge runs inside blocks: most rows trace there
-  EXPECT_EQ(img.pixels, full.pixels);  // flat colours on both sides: exact
+  EXPECT_GE(traced, size_t(kN));      // the edge runs inside blocks: most rows trace there
+  EXPECT_EQ(img.pixels, full.pixels); // flat colours on both sides: exact
 }
 
 TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
-  for (double t : {5.0, 44.0, 51.0}) {  // 51 s is inside the blocks segment
+  for (double t : {5.0, 44.0, 51.0}) { // 51 s is inside the blocks segment
     Scene s;
     TimelineState st = build_timeline_scene(s, t);
     std::vector<Image> imgs;
@@ -279,7 +280,7 @@ TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
   glass.transmit = 0.9f;
   glass.ior = 1.5f;
   scene_add(s, make_sphere(v3(0, 0, 30), 29), glass);
-  constexpr int kW = 65, kH = 49;  // corners on every 8th pixel up to the last
+  constexpr int kW = 65, kH = 49; // corners on every 8th pixel up to the last
   for (bool transparent : {true, false}) {
     s.objects[0].mat.transmit = transparent ? 0.9f : 0.0f;
     Image img(kW, kH);
@@ -291,8 +292,10 @@ TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
     render_frame(s, img, opt, nullptr);
     int centres = 0, smooth = 0;
     for (int y = 4; y < kH; y += 8)
-      for (int x = 4; x < kW; x += 8) centres += kinds[size_t(y * kW + x)] >> kSampleCountShift;
-    for (uint8_t k : kinds) smooth += (k & kKindMask) != kTraced;
+      for (int x = 4; x < kW; x += 8)
+        centres += kinds[size_t(y * kW + x)] >> kSampleCountShift;
+    for (uint8_t k : kinds)
+      smooth += (k & kKindMask) != kTraced;
     EXPECT_EQ(centres, transparent ? (kW / 8) * (kH / 8) : 0) << "transparent " << transparent;
     EXPECT_GT(smooth, kW * kH * 3 / 4) << "transparent " << transparent;
   }
@@ -306,14 +309,14 @@ TEST(AdaptiveEstimate, EqualRecordsAndCloseColours) {
   a.path.node[0] = b.path.node[0] = 3;
   a.path.node[1] = b.path.node[1] = 5 | 4 << 5;
   a.packed = 0xff102030u;
-  b.packed = 0xff203021u;  // red +16, green +16, blue -15
+  b.packed = 0xff203021u; // red +16, green +16, blue -15
   ASSERT_TRUE(adaptive_estimate(a, b, mid));
-  EXPECT_EQ(mid.packed, 0xff182829u);  // (16+32+1)/2 = 24, (32+48+1)/2 = 40, (48+33+1)/2 = 41
+  EXPECT_EQ(mid.packed, 0xff182829u); // (16+32+1)/2 = 24, (32+48+1)/2 = 40, (48+33+1)/2 = 41
   EXPECT_TRUE(same_path(mid.path, a.path));
-  b.packed = 0xff213021u;  // red +17: too far apart
+  b.packed = 0xff213021u; // red +17: too far apart
   EXPECT_FALSE(adaptive_estimate(a, b, mid));
   b.packed = 0xff000000u | (a.packed & 0xffffffu);
-  b.path.node[1] = 5;  // no highlight at b: another record
+  b.path.node[1] = 5; // no highlight at b: another record
   EXPECT_FALSE(adaptive_estimate(a, b, mid));
   b.path = a.path;
   b.path.count = 1;
@@ -331,7 +334,8 @@ TEST(AdaptiveFrame, NoSampleIsTracedTwice) {
   };
   for (Case c : {Case{12.0, 400, 300, 8, 1}, Case{44.0, 400, 300, 8, 2}, Case{38.5, 400, 300, 8, 7},
                  Case{27.5, 203, 157, 8, 2}, Case{44.0, 203, 157, 16, 2}, Case{5.0, 97, 61, 4, 7},
-                 Case{58.75, 150, 100, 5, 2}}) {
+                 Case{58.75, 150, 100, 5, 2}, Case{12.0, 33, 1, 8, 2}, Case{12.0, 1, 17, 8, 2},
+                 Case{44.0, 2, 2, 8, 1}}) {
     Scene s;
     build_timeline_scene(s, c.t);
     Image img(c.w, c.h);
@@ -350,7 +354,7 @@ TEST(AdaptiveFrame, NoSampleIsTracedTwice) {
     }
     EXPECT_EQ(twice, 0u) << "t=" << c.t << " " << c.w << "x" << c.h << " block " << c.block;
     EXPECT_EQ(samples, stats.primary) << "t=" << c.t;
-    EXPECT_GT(samples, uint64_t(c.w * c.h / 50)) << "t=" << c.t;  // corners and more
+    EXPECT_GT(samples, uint64_t(c.w * c.h / 50)) << "t=" << c.t; // corners and more
   }
 }
 
@@ -394,14 +398,15 @@ TEST(AdaptiveFill, InterpolationRoundsTheBilinearValue) {
   int checked = 0;
   for (int iter = 0; iter < 2000; ++iter) {
     int w = int(next() % 17), h = int(next() % 17);
-    if (iter % 100 == 0) w = 255;  // the longest row (a block of 256 at the image's edge)
+    if (iter % 100 == 0) w = 255; // the longest row (a block of 256 at the image's edge)
     int x0 = 1 + int(next() % 3), y0 = 1 + int(next() % 3), x1 = x0 + w, y1 = y0 + h;
     int xEnd = next() % 2 ? x1 + 1 : (w ? x1 : x1 + 1);
     int yEnd = next() % 2 ? y1 + 1 : (h ? y1 : y1 + 1);
     uint32_t c[4];
-    for (uint32_t& v : c) v = 0xff000000u | (next() & 0xffffffu);
-    if (iter % 5 == 0) c[3] = c[0];  // some equal corners
-    if (w == 0) c[1] = c[0], c[3] = c[2];  // corners at one pixel are one sample
+    for (uint32_t& v : c)
+      v = 0xff000000u | (next() & 0xffffffu);
+    if (iter % 5 == 0) c[3] = c[0];       // some equal corners
+    if (w == 0) c[1] = c[0], c[3] = c[2]; // corners at one pixel are one sample
     if (h == 0) c[2] = c[0], c[3] = c[1];
     std::vector<uint32_t> fb(kStride * kRows, kGuard);
     adaptive_interpolate(fb.data(), kStride, x0, y0, x1, y1, xEnd, yEnd, c[0], c[1], c[2], c[3]);
@@ -451,4 +456,4 @@ TEST(AdaptiveFrame, BlocksViewTintsCopiedRedAndInterpolatedBlue) {
   EXPECT_EQ(tint_interpolated(0xffffffffu), 0xff7f7fffu);
 }
 
-}  // namespace
+} // namespace

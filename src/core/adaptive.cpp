@@ -292,26 +292,23 @@ bool is_small(const AdaptiveFrame& f, int w, int h) {
   return (w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2);
 }
 
-// Asks for every pixel of a small block: those on its sides into their
-// slots (other blocks may read them), the rest straight into the picture.
-RT64K_COLD void request_block(Context& c, const Node& n) {
+// A small block, traced per pixel. Before the batch (`written` false):
+// asks for every pixel, those on its sides into their slots (other blocks may
+// read them), the rest straight into the picture. After it: writes the
+// pixels on its sides from their slots.
+RT64K_COLD void trace_block(Context& c, const Node& n, bool written) {
+  const AdaptiveFrame& f = *c.f;
+  if (written) mark(f, n, kTraced);
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {
       Edge e = side_slot(n, x, y);
-      if (e.s)
+      if (!e.s) {
+        if (!written) request_pixel(c, x, y);
+      } else if (written) {
+        f.fb[y * f.stride + x] = e.s->packed;
+      } else {
         request(c, x, y, e);
-      else
-        request_pixel(c, x, y);
-    }
-}
-
-// After the batch: the pixels of a small block that lie on its sides.
-RT64K_COLD void write_block_sides(const AdaptiveFrame& f, const Node& n) {
-  mark(f, n, kTraced);
-  for (int y = n.y0; y < n.yEnd; ++y)
-    for (int x = n.x0; x < n.xEnd; ++x) {
-      Edge e = side_slot(n, x, y);
-      if (e.s) f.fb[y * f.stride + x] = e.s->packed;
+      }
     }
 }
 
@@ -341,7 +338,7 @@ void process_group(Context& c, Node* nodes, int count) {
     }
     if (is_small(f, w, h)) {
       n.kind = kTraced;
-      request_block(c, n);
+      trace_block(c, n, false);
       continue;
     }
     // Split at the midpoints; sides of length < 2 are not split.
@@ -367,7 +364,7 @@ void process_group(Context& c, Node* nodes, int count) {
   int k = 0;
   for (int i = 0; i < count; ++i) {
     Node& n = nodes[i];
-    if (n.kind == kTraced) write_block_sides(f, n);
+    if (n.kind == kTraced) trace_block(c, n, true);
     if (n.kind != kSplit) continue;
     int w = n.x1 - n.x0, h = n.y1 - n.y0, a = n.xm - n.x0, b = n.ym - n.y0;
     if (n.splitX) {
@@ -421,13 +418,9 @@ RT64K_COLD void trace_line(Context& c, int k) {
   for (int x = 0; x < f.width; ++x)
     line.st[x] = kUnknown;
   int y = grid_coord(k, f.baseBlock, f.height);
-  if (k > 0 && y == grid_coord(k - 1, f.baseBlock, f.height)) {
-    // A one-pixel-high image: both lines are row 0, traced once.
-    Edge above = line_edge(f, k - 1);
-    for (int x = 0; x < f.width; ++x)
-      copy_slot(line, x, above, x);
-    return;
-  }
+  // A one-pixel-high image: both lines are row 0; the band reads line 0 as
+  // its bottom too (run_band), so line 1 is not traced.
+  if (k > 0 && y == grid_coord(k - 1, f.baseBlock, f.height)) return;
   for (int i = 0; i < f.gridW; ++i) {
     int x = grid_coord(i, f.baseBlock, f.width);
     request(c, x, y, line + x);

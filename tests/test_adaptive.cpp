@@ -3,6 +3,7 @@
 // the same picture for any thread count.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "adaptive.h"
@@ -10,6 +11,10 @@
 #include "scenes.h"
 
 namespace {
+
+// The renderer marks every pixel copied, interpolated or traced; a split
+// block marks none of its own, so kSplit (with no samples counted) is "unset".
+constexpr uint8_t kUnset = kSplit;
 
 // Diffuse only: no highlight rims to split on besides the edge under test.
 Material matte(Vec3 c) { return Material{c, 0.8f, 0.0f, 20, 0, 0, 1, 0.3f, 0.04f}; }
@@ -57,8 +62,8 @@ TEST(AdaptiveDecide, SilhouetteIsSplit) {
   base_scene(s);
   scene_add(s, make_sphere(v3(0, 0, 10), 2), matte(v3(1, 0, 0)));
   scene_add_light(s, v3(0, 10, 0), v3(1));
-  EXPECT_EQ(decide_around(s, 2.0f, 0, 0.3f), kSplit);  // straddles the rim at x = 2
-  EXPECT_NE(decide_around(s, 0.0f, 0, 0.3f), kSplit);  // well inside
+  EXPECT_EQ(decide_around(s, 2.0f, 0, 0.3f), kSplit); // straddles the rim at x = 2
+  EXPECT_NE(decide_around(s, 0.0f, 0, 0.3f), kSplit); // well inside
 }
 
 // Scans the view's row y (directions (x, y, 10)) from x0 to x1 and returns
@@ -118,8 +123,8 @@ TEST(AdaptiveDecide, ReflectionEdgeIsSplit) {
   ASSERT_TRUE(e.found);
   ASSERT_GE(e.before.count, 2);
   ASSERT_GE(e.after.count, 2);
-  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);  // both see the mirror
-  EXPECT_NE(e.before.node[1] & 31u, e.after.node[1] & 31u);  // reflections differ
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u); // both see the mirror
+  EXPECT_NE(e.before.node[1] & 31u, e.after.node[1] & 31u); // reflections differ
   EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
   EXPECT_NE(decide_around(s, 0.0f, 0, 0.02f), kSplit);
 }
@@ -139,7 +144,7 @@ TEST(AdaptiveDecide, RefractionEdgeIsSplit) {
   scene_add_light(s, v3(0, 0, 0), v3(1));
   Edge e = find_edge(s, -2.5f, 2.5f, 0);
   ASSERT_TRUE(e.found);
-  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u);  // both see the glass first
+  EXPECT_EQ(e.before.node[0] & 31u, e.after.node[0] & 31u); // both see the glass first
   EXPECT_EQ(decide_around(s, e.x, 0, 0.02f), kSplit);
 }
 
@@ -153,7 +158,7 @@ struct Frames {
 Frames render_both(double t, int w, int h, int block) {
   Scene s;
   build_timeline_scene(s, t);
-  Frames f{Image(w, h), Image(w, h), std::vector<uint8_t>(size_t(w) * size_t(h), 255)};
+  Frames f{Image(w, h), Image(w, h), std::vector<uint8_t>(size_t(w) * size_t(h), kUnset)};
   RenderOptions full;
   full.mode = Mode::Full;
   full.threads = 2;
@@ -172,8 +177,9 @@ TEST(AdaptiveFrame, TracedPixelsEqualFullTrace) {
     Frames f = render_both(t, 400, 300, 8);
     size_t traced = 0, mismatched = 0, unset = 0;
     for (size_t i = 0; i < f.kinds.size(); ++i) {
-      if (f.kinds[i] == 255) ++unset;
-      if (f.kinds[i] != kTraced) continue;
+      uint8_t kind = f.kinds[i] & kKindMask;
+      if (kind == kUnset) ++unset;
+      if (kind != kTraced) continue;
       ++traced;
       mismatched += f.full.pixels[i] != f.adaptive.pixels[i];
     }
@@ -188,17 +194,18 @@ TEST(AdaptiveFrame, EmptySceneIsAllCopiedFromCornersOnly) {
   base_scene(s);
   constexpr int kW = 64, kH = 48, kB = 8;
   Image img(kW, kH);
-  std::vector<uint8_t> kinds(kW * kH, 255);
+  std::vector<uint8_t> kinds(kW * kH, kUnset);
   RenderOptions opt;
   opt.block = kB;
   opt.threads = 1;
   opt.kinds = kinds.data();
   RayStats stats;
   render_frame(s, img, opt, &stats);
-  for (uint8_t k : kinds) ASSERT_EQ(k, kCopied);
-  EXPECT_EQ(stats.primary, uint64_t(adaptive_corner_count(kW, kH, kB)));  // corners traced once
-  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1)));
-  for (uint32_t p : img.pixels) ASSERT_EQ(p, pack_color(s.background));
+  for (uint8_t k : kinds)
+    ASSERT_EQ(k & kKindMask, kCopied);
+  EXPECT_EQ(stats.primary, uint64_t((kW / kB + 1) * (kH / kB + 1))); // corners traced once
+  for (uint32_t p : img.pixels)
+    ASSERT_EQ(p, pack_color(s.background));
 }
 
 TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
@@ -209,13 +216,12 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   base_scene(s);
   s.background = v3(0.9f);
   Material flat = matte(v3(0.1f, 0.1f, 0.6f));
-  flat.diffuse = 0;  // ambient only: one flat colour, so every block is exact
-  scene_add(s, make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10),
-                             v3(1000, 0, 10)),
+  flat.diffuse = 0; // ambient only: one flat colour, so every block is exact
+  scene_add(s, make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10), v3(1000, 0, 10)),
             flat);
   constexpr int kN = 128;
   Image img(kN, kN), full(kN, kN);
-  std::vector<uint8_t> kinds(kN * kN, 255);
+  std::vector<uint8_t> kinds(kN * kN, kUnset);
   RenderOptions opt;
   opt.threads = 2;
   opt.kinds = kinds.data();
@@ -233,17 +239,17 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   size_t traced = 0;
   for (int y = 0; y < kN; ++y) {
     for (int x : {edge, edge + 1}) {
-      uint8_t k = kinds[size_t(y * kN + x)];
+      uint8_t k = kinds[size_t(y * kN + x)] & kKindMask;
       EXPECT_NE(k, kInterpolated) << "x=" << x << " y=" << y;
       traced += k == kTraced;
     }
   }
-  EXPECT_GE(traced, size_t(kN));  // the edge runs inside blocks: most rows trace there
-  EXPECT_EQ(img.pixels, full.pixels);  // flat colours on both sides: exact
+  EXPECT_GE(traced, size_t(kN));      // the edge runs inside blocks: most rows trace there
+  EXPECT_EQ(img.pixels, full.pixels); // flat colours on both sides: exact
 }
 
 TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
-  for (double t : {5.0, 44.0, 51.0}) {  // 51 s is inside the blocks segment
+  for (double t : {5.0, 44.0, 51.0}) { // 51 s is inside the blocks segment
     Scene s;
     TimelineState st = build_timeline_scene(s, t);
     std::vector<Image> imgs;
@@ -260,13 +266,105 @@ TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   }
 }
 
+// A glass sphere filling the view over a flat background: every corner's
+// record is the same (glass, its far side, the background), so without the
+// glass rule every 8-pixel block would be interpolated from its corners.
+// Blocks that see glass are interpolated only at 4 pixels: every 8-pixel
+// block is split, so its centre (a fresh sample, never estimated) is traced.
+// With an opaque sphere the 8-pixel blocks are interpolated: no centre is.
+TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
+  Scene s;
+  base_scene(s);
+  Material glass = matte(v3(0.9f));
+  glass.diffuse = 0;
+  glass.transmit = 0.9f;
+  glass.ior = 1.5f;
+  scene_add(s, make_sphere(v3(0, 0, 30), 29), glass);
+  constexpr int kW = 65, kH = 49; // corners on every 8th pixel up to the last
+  for (bool transparent : {true, false}) {
+    s.objects[0].mat.transmit = transparent ? 0.9f : 0.0f;
+    Image img(kW, kH);
+    std::vector<uint8_t> kinds(kW * kH, kUnset);
+    RenderOptions opt;
+    opt.block = 8;
+    opt.threads = 2;
+    opt.kinds = kinds.data();
+    render_frame(s, img, opt, nullptr);
+    int centres = 0, smooth = 0;
+    for (int y = 4; y < kH; y += 8)
+      for (int x = 4; x < kW; x += 8)
+        centres += kinds[size_t(y * kW + x)] >> kSampleCountShift;
+    for (uint8_t k : kinds)
+      smooth += (k & kKindMask) != kTraced;
+    EXPECT_EQ(centres, transparent ? (kW / 8) * (kH / 8) : 0) << "transparent " << transparent;
+    EXPECT_GT(smooth, kW * kH * 3 / 4) << "transparent " << transparent;
+  }
+}
+
+// A side's midpoint is estimated from its ends when their records agree and
+// their colours are within 16/255 per channel: the rounded mean colour.
+TEST(AdaptiveEstimate, EqualRecordsAndCloseColours) {
+  CornerSample a{}, b{}, mid{};
+  a.path.count = b.path.count = 2;
+  a.path.node[0] = b.path.node[0] = 3;
+  a.path.node[1] = b.path.node[1] = 5 | 4 << 5;
+  a.packed = 0xff102030u;
+  b.packed = 0xff203021u; // red +16, green +16, blue -15
+  ASSERT_TRUE(adaptive_estimate(a, b, mid));
+  EXPECT_EQ(mid.packed, 0xff182829u); // (16+32+1)/2 = 24, (32+48+1)/2 = 40, (48+33+1)/2 = 41
+  EXPECT_TRUE(same_path(mid.path, a.path));
+  b.packed = 0xff213021u; // red +17: too far apart
+  EXPECT_FALSE(adaptive_estimate(a, b, mid));
+  b.packed = 0xff000000u | (a.packed & 0xffffffu);
+  b.path.node[1] = 5; // no highlight at b: another record
+  EXPECT_FALSE(adaptive_estimate(a, b, mid));
+  b.path = a.path;
+  b.path.count = 1;
+  EXPECT_FALSE(adaptive_estimate(a, b, mid));
+}
+
+// No sample is traced twice (issue 9): the renderer counts in bits 6-7 of
+// `kinds` the samples traced at each pixel. Every count is 0 or 1, and they
+// add up to the primary rays cast, for any thread count and at odd sizes
+// (blocks clipped at the right and bottom edges split into odd halves).
+TEST(AdaptiveFrame, NoSampleIsTracedTwice) {
+  struct Case {
+    double t;
+    int w, h, block, threads;
+  };
+  for (Case c : {Case{12.0, 400, 300, 8, 1}, Case{44.0, 400, 300, 8, 2}, Case{38.5, 400, 300, 8, 7},
+                 Case{27.5, 203, 157, 8, 2}, Case{44.0, 203, 157, 16, 2}, Case{5.0, 97, 61, 4, 7},
+                 Case{58.75, 150, 100, 5, 2}, Case{12.0, 33, 1, 8, 2}, Case{12.0, 1, 17, 8, 2},
+                 Case{44.0, 2, 2, 8, 1}}) {
+    Scene s;
+    build_timeline_scene(s, c.t);
+    Image img(c.w, c.h);
+    std::vector<uint8_t> kinds(size_t(c.w * c.h), kUnset);
+    RenderOptions opt;
+    opt.block = c.block;
+    opt.threads = c.threads;
+    opt.kinds = kinds.data();
+    RayStats stats;
+    render_frame(s, img, opt, &stats);
+    uint64_t samples = 0, twice = 0;
+    for (uint8_t k : kinds) {
+      int count = k >> kSampleCountShift;
+      samples += uint64_t(count);
+      twice += count > 1;
+    }
+    EXPECT_EQ(twice, 0u) << "t=" << c.t << " " << c.w << "x" << c.h << " block " << c.block;
+    EXPECT_EQ(samples, stats.primary) << "t=" << c.t;
+    EXPECT_GT(samples, uint64_t(c.w * c.h / 50)) << "t=" << c.t; // corners and more
+  }
+}
+
 TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
   Scene s;
   build_timeline_scene(s, 12.0);
   for (int w : {1, 2, 7, 33}) {
     for (int h : {1, 3, 17}) {
       Image img(w, h), full(w, h);
-      std::vector<uint8_t> kinds(size_t(w * h), 255);
+      std::vector<uint8_t> kinds(size_t(w * h), kUnset);
       RenderOptions opt;
       opt.kinds = kinds.data();
       render_frame(s, img, opt, nullptr);
@@ -274,12 +372,80 @@ TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
       fo.mode = Mode::Full;
       render_frame(s, full, fo, nullptr);
       for (size_t i = 0; i < kinds.size(); ++i) {
-        ASSERT_NE(kinds[i], 255) << w << "x" << h << " pixel " << i;
-        if (kinds[i] == kTraced) {
+        ASSERT_NE(kinds[i] & kKindMask, kUnset) << w << "x" << h << " pixel " << i;
+        if ((kinds[i] & kKindMask) == kTraced) {
           ASSERT_EQ(img.pixels[i], full.pixels[i]) << w << "x" << h;
         }
       }
     }
+  }
+}
+
+// Interpolated channels are the exact bilinear value rounded to nearest,
+// to within kInterpolationSlack (float steps along a row of up to 256 pixels).
+constexpr double kInterpolationSlack = 1.0 / 256;
+
+TEST(AdaptiveFill, InterpolationRoundsTheBilinearValue) {
+  // Seeded corners and block shapes, including blocks owning their right
+  // column and bottom row (at the image's edges) and flat ones.
+  uint32_t seed = 12345;
+  auto next = [&seed] {
+    seed = seed * 1664525u + 1013904223u;
+    return seed >> 8;
+  };
+  constexpr int kStride = 260, kRows = 24;
+  constexpr uint32_t kGuard = 0x12345678u;
+  int checked = 0;
+  for (int iter = 0; iter < 2000; ++iter) {
+    int w = int(next() % 17), h = int(next() % 17);
+    if (iter % 100 == 0) w = 255; // the longest row (a block of 256 at the image's edge)
+    int x0 = 1 + int(next() % 3), y0 = 1 + int(next() % 3), x1 = x0 + w, y1 = y0 + h;
+    int xEnd = next() % 2 ? x1 + 1 : (w ? x1 : x1 + 1);
+    int yEnd = next() % 2 ? y1 + 1 : (h ? y1 : y1 + 1);
+    uint32_t c[4];
+    for (uint32_t& v : c)
+      v = 0xff000000u | (next() & 0xffffffu);
+    if (iter % 5 == 0) c[3] = c[0];       // some equal corners
+    if (w == 0) c[1] = c[0], c[3] = c[2]; // corners at one pixel are one sample
+    if (h == 0) c[2] = c[0], c[3] = c[1];
+    std::vector<uint32_t> fb(kStride * kRows, kGuard);
+    adaptive_interpolate(fb.data(), kStride, x0, y0, x1, y1, xEnd, yEnd, c[0], c[1], c[2], c[3]);
+    for (int y = 0; y < kRows; ++y)
+      for (int x = 0; x < kStride; ++x) {
+        uint32_t p = fb[size_t(y * kStride + x)];
+        if (x < x0 || x >= xEnd || y < y0 || y >= yEnd) {
+          ASSERT_EQ(p, kGuard) << "wrote outside the block at " << x << "," << y;
+          continue;
+        }
+        // The exact bilinear value rounded, and exact at the corners.
+        double fx = w ? double(x - x0) / w : 0, fy = h ? double(y - y0) / h : 0;
+        for (int sh = 0; sh < 24; sh += 8) {
+          auto ch = [sh](uint32_t v) { return double(v >> sh & 255); };
+          double exact = (1 - fy) * ((1 - fx) * ch(c[0]) + fx * ch(c[1])) +
+                         fy * ((1 - fx) * ch(c[2]) + fx * ch(c[3]));
+          ASSERT_LE(std::abs(ch(p) - exact), 0.5 + kInterpolationSlack)
+              << "iter " << iter << " at " << x << "," << y;
+          if ((x == x0 || x == x1) && (y == y0 || y == y1)) {
+            ASSERT_EQ(ch(p), exact);
+          }
+        }
+        ASSERT_EQ(p >> 24, 255u);
+        ++checked;
+      }
+  }
+  EXPECT_GT(checked, 100000);
+}
+
+TEST(AdaptiveFill, FillWritesExactlyTheBlock) {
+  constexpr int kStride = 23;
+  for (int w = 0; w <= 9; ++w) {
+    std::vector<uint32_t> fb(kStride * 6, 0u);
+    adaptive_fill(fb.data(), kStride, 3, 2, 3 + w, 5, 0xff102030u);
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < kStride; ++x)
+        ASSERT_EQ(fb[size_t(y * kStride + x)],
+                  (x >= 3 && x < 3 + w && y >= 2 && y < 5) ? 0xff102030u : 0u)
+            << w << ": " << x << "," << y;
   }
 }
 
@@ -290,4 +456,4 @@ TEST(AdaptiveFrame, BlocksViewTintsCopiedRedAndInterpolatedBlue) {
   EXPECT_EQ(tint_interpolated(0xffffffffu), 0xff7f7fffu);
 }
 
-}  // namespace
+} // namespace

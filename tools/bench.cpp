@@ -15,14 +15,90 @@
 
 namespace {
 
-// Error of `img` against the every-pixel reference.
-struct FrameError {
-  double psnr;        // dB over RGB; +inf when identical
-  int maxError;       // largest absolute channel difference, 0..255
-  double offPercent;  // % of pixels with some channel off by more than 8/255
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  size_t i = size_t(std::ceil(p * double(v.size()))) - 1;
+  return v[std::min(i, v.size() - 1)];
+}
+
+struct ModeResult {
+  std::vector<double> ms, ms1, psnr, off;
+  std::vector<double> flicker;          // per frame pair, %
+  std::vector<int> scene;               // per frame, 1 or 2
+  std::vector<int> maxErrors;           // per frame
+  double kindPixels[4] = {0, 0, 0, 0};  // BlockKind counts over all frames
+  int maxError = 0;
+  RayStats rays{0, 0, 0};
 };
 
-FrameError compare(const Image& ref, const Image& img) {
+std::string fmt(double v, int decimals) {
+  if (std::isinf(v)) return "inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+double now_ms() {
+  using namespace std::chrono;
+  return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
+}
+
+// Flicker of one mode between a frame (ref0, img0) and the next, kFlickerStep
+// later (`next`, its reference ref1): renders the mode there, untimed, into
+// `scratch`. The full trace is deterministic, so its next frame is ref1.
+double measure_flicker(const Scene& next, const Image& ref0, const Image& img0, const Image& ref1,
+                       RenderOptions opt, Image& scratch) {
+  if (opt.mode == Mode::Full) return flicker_percent(ref0, img0, ref1, ref1);
+  opt.kinds = nullptr;
+  render_frame(next, scratch, opt, nullptr);
+  return flicker_percent(ref0, img0, ref1, scratch);
+}
+
+// The viewer's table: per mode and per scene (and both), what the frame
+// times feel like next to what the error looks like.
+void print_viewer_table(const std::vector<BenchMode>& specs,
+                        const std::vector<ModeResult>& results) {
+  std::printf("\n| mode | scene | median ms | p95 ms | max ms | fps at median | fps at slowest | "
+              "min PSNR dB | median PSNR dB | max abs error | pixels off > 8/255 (mean %%) | "
+              "flicker > %d/255 (mean %%) | flicker (max %%) |\n",
+              kFlickerThreshold);
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (size_t m = 0; m < specs.size(); ++m) {
+    const ModeResult& r = results[m];
+    for (int scene : {1, 2, 0}) {  // 0: both scenes
+      std::vector<double> ms, psnr, off, flicker;
+      int maxError = 0;
+      for (size_t f = 0; f < r.ms.size(); ++f) {
+        if (scene && r.scene[f] != scene) continue;
+        ms.push_back(r.ms[f]);
+        psnr.push_back(r.psnr[f]);
+        off.push_back(r.off[f]);
+        flicker.push_back(r.flicker[f]);
+        maxError = std::max(maxError, r.maxErrors[f]);
+      }
+      if (ms.empty()) continue;
+      FrameTimes ft = frame_times(ms);
+      double offMean = 0, flickerMean = 0;
+      for (size_t f = 0; f < ms.size(); ++f) {
+        offMean += off[f] / double(ms.size());
+        flickerMean += flicker[f] / double(ms.size());
+      }
+      std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %d | %s | %s | %s |\n",
+                  specs[m].name.c_str(), scene ? std::to_string(scene).c_str() : "both",
+                  fmt(ft.median, 2).c_str(), fmt(ft.p95, 2).c_str(), fmt(ft.max, 2).c_str(),
+                  fmt(ft.fpsMedian, 1).c_str(), fmt(ft.fpsSlowest, 1).c_str(),
+                  fmt(*std::min_element(psnr.begin(), psnr.end()), 2).c_str(),
+                  fmt(percentile(psnr, 0.5), 2).c_str(), maxError, fmt(offMean, 3).c_str(),
+                  fmt(flickerMean, 3).c_str(),
+                  fmt(*std::max_element(flicker.begin(), flicker.end()), 3).c_str());
+    }
+  }
+}
+
+}  // namespace
+
+FrameError compare_images(const Image& ref, const Image& img) {
   double sq = 0;
   int maxErr = 0;
   size_t off = 0;
@@ -42,31 +118,29 @@ FrameError compare(const Image& ref, const Image& img) {
   return FrameError{psnr, maxErr, 100.0 * double(off) / double(ref.pixels.size())};
 }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  size_t i = size_t(std::ceil(p * double(v.size()))) - 1;
-  return v[std::min(i, v.size() - 1)];
+double flicker_percent(const Image& ref0, const Image& img0, const Image& ref1, const Image& img1) {
+  size_t flickering = 0, n = ref0.pixels.size();
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t r0 = ref0.pixels[i], a0 = img0.pixels[i], r1 = ref1.pixels[i], a1 = img1.pixels[i];
+    bool flicker = false;
+    for (int sh = 0; sh < 24; sh += 8) {
+      int e0 = int(a0 >> sh & 255) - int(r0 >> sh & 255);  // signed error, frame 0
+      int e1 = int(a1 >> sh & 255) - int(r1 >> sh & 255);
+      flicker |= std::abs(e1 - e0) > kFlickerThreshold;
+    }
+    flickering += flicker;
+  }
+  return n ? 100.0 * double(flickering) / double(n) : 0.0;
 }
 
-struct ModeResult {
-  std::vector<double> ms, ms1, psnr, off;
-  double kindPixels[4] = {0, 0, 0, 0};  // BlockKind counts over all frames
-  int maxError = 0;
-  RayStats rays{0, 0, 0};
-};
-
-std::string fmt(double v, int decimals) {
-  if (std::isinf(v)) return "inf";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
+FrameTimes frame_times(const std::vector<double>& ms) {
+  FrameTimes t{percentile(ms, 0.5), percentile(ms, 0.95), percentile(ms, 1.0), 0, 0};
+  t.fpsMedian = t.median > 0 ? 1000.0 / t.median : INFINITY;
+  t.fpsSlowest = t.max > 0 ? 1000.0 / t.max : INFINITY;
+  return t;
 }
 
-double now_ms() {
-  using namespace std::chrono;
-  return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
-}
+namespace {
 
 // ---- output writing: paths checked up front, CSV and plot whole or not at all
 
@@ -143,18 +217,22 @@ int run_bench(const BenchOptions& o) {
     return 2;
   }
   std::FILE* csv = csvOut.stream();
-  std::fprintf(csv, "time,mode,ms,ms_1thread,psnr_db,max_error,off_percent,primary,secondary,shadow\n");
+  std::fprintf(csv, "time,mode,ms,ms_1thread,psnr_db,max_error,off_percent,primary,secondary,"
+                    "shadow,scene,flicker_percent\n");
   Image ref(o.width, o.height), img(o.width, o.height);
+  Image refNext(o.width, o.height), imgNext(o.width, o.height);
   std::vector<uint8_t> kinds(size_t(o.width) * size_t(o.height));
   double started = now_ms();
   for (int f = 0; f < frames; ++f) {
     double t = f * o.step;
-    Scene scene;
-    build_timeline_scene(scene, t);
+    Scene scene, next;
+    int sceneIndex = build_timeline_scene(scene, t).scene;
+    build_timeline_scene(next, t + kFlickerStep);
     RenderOptions full;
     full.mode = Mode::Full;
     full.threads = o.threads;
-    render_frame(scene, ref, full, nullptr);  // the reference, untimed
+    render_frame(scene, ref, full, nullptr);  // the references, untimed
+    render_frame(next, refNext, full, nullptr);
     for (size_t m = 0; m < specs.size(); ++m) {
       RenderOptions opt;
       opt.mode = specs[m].mode;
@@ -174,21 +252,27 @@ int run_bench(const BenchOptions& o) {
         render_frame(scene, img, opt, nullptr);
         ms1 = now_ms() - t0;
       }
-      FrameError e = compare(ref, img);
+      FrameError e = compare_images(ref, img);
+      opt.threads = o.threads;
+      double flicker = measure_flicker(next, ref, img, refNext, opt, imgNext);
       ModeResult& r = results[m];
-      for (uint8_t k : kinds) r.kindPixels[k & 3] += 1;
+      for (uint8_t k : kinds) r.kindPixels[k & kKindMask] += 1;
       r.ms.push_back(ms);
       if (o.scaling) r.ms1.push_back(ms1);
       r.psnr.push_back(e.psnr);
       r.off.push_back(e.offPercent);
       r.maxError = std::max(r.maxError, e.maxError);
+      r.maxErrors.push_back(e.maxError);
+      r.flicker.push_back(flicker);
+      r.scene.push_back(sceneIndex);
       r.rays.primary += rays.primary;
       r.rays.secondary += rays.secondary;
       r.rays.shadow += rays.shadow;
-      std::fprintf(csv, "%.3f,%s,%.4f,%.4f,%.3f,%d,%.4f,%llu,%llu,%llu\n", t,
+      std::fprintf(csv, "%.3f,%s,%.4f,%.4f,%.3f,%d,%.4f,%llu,%llu,%llu,%d,%.4f\n", t,
                    specs[m].name.c_str(), ms, ms1, std::isinf(e.psnr) ? 999.0 : e.psnr,
                    e.maxError, e.offPercent, (unsigned long long)rays.primary,
-                   (unsigned long long)rays.secondary, (unsigned long long)rays.shadow);
+                   (unsigned long long)rays.secondary, (unsigned long long)rays.shadow,
+                   sceneIndex, flicker);
     }
     if (o.progress && (f % 8 == 7 || f + 1 == frames))
       std::fprintf(stderr, "bench: frame %d/%d (t = %.2f s), %.0f s elapsed\n", f + 1, frames, t,
@@ -233,6 +317,7 @@ int run_bench(const BenchOptions& o) {
                 fmt(percentile(r.psnr, 0.5), 2).c_str(), r.maxError, fmt(offMean, 3).c_str(),
                 kindsText.c_str());
   }
+  print_viewer_table(specs, results);
   std::printf("\nCSV: %s\n", printable(o.csvPath).c_str());
 
   if (!o.plotPath.empty()) return write_bench_plot(o, gnuplot, frames, results);

@@ -19,7 +19,7 @@ struct RenderOptions {
   int block = kDefaultBlock;
   int minBlock = kDefaultMinBlock;
   int threads = 1;
-  uint8_t* kinds = nullptr;  // optional: width*height BlockKind per pixel (adaptive modes)
+  uint8_t* kinds = nullptr;  // optional: width*height, AdaptiveFrame::kinds (adaptive modes)
 };
 
 // Flat colour of object `index` in the ids view (background: black).

@@ -1,9 +1,90 @@
 // adaptive.cpp - adaptive subsampling renderer; the contract is in adaptive.h.
+//
+// Where samples live. Every sample a block reads lies on one of its four
+// sides. A side is an Edge: an array indexed by the offset from the block's
+// top-left corner (top and bottom: 0..w, left and right: 0..h), both ends
+// being corners. Sides shared between blocks are one array, so a sample one
+// block traced is there for the other:
+//   * a line of corners (the top or bottom of a band) is an array of `width`
+//     samples in the caller's buffer, kept for the whole frame;
+//   * a base block's left side is its left neighbour's right side: each band
+//     carries one column array from block to block;
+//   * a split block's two inner lines (x = xm and y = ym) are fresh arrays
+//     from the band's scratch, shared by its four children.
+// A corner or midpoint that is an end of several arrays is copied into each
+// once it is traced. Each slot has a state: unknown, pending (in the current
+// batch), known (traced) or estimated (adaptive_estimate; traced after all
+// if a block traced per pixel needs it).
 #include "adaptive.h"
 
 namespace {
 
 typedef CornerSample Sample;
+
+// Per block or per band, not per pixel: kept out of line, which saves bytes
+// in intro.exe for a call's few instructions.
+#define RT64K_COLD __attribute__((noinline))
+
+enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
+
+// A side's midpoint is estimated instead of traced when the records at its
+// two ends are equal and no colour channel differs between them by more than
+// kEstimateContrast / 255: the midpoint takes their record and the rounded
+// mean of their colours. Measured in docs/speed-vs-error.md (-11 % samples;
+// without the contrast limit the flicker figure got worse).
+constexpr int kEstimateContrast = 16;
+
+// A block whose corners see a transparent object (at any recorded depth) is
+// copied or interpolated only when it is at most kGlassBlock pixels wide and
+// high, else split. Glass shows a minified image of what lies behind and
+// around it, whose edges partly go unrecorded (deeper than kRecordDepth, or
+// reflections weaker than kRecordWeight); measured in docs/speed-vs-error.md.
+constexpr int kGlassBlock = 4;
+
+struct Edge {
+  Sample* s;
+  u8* st;
+};
+inline Edge operator+(Edge e, int k) { return Edge{e.s + k, e.st + k}; }
+
+inline void copy_slot(Edge to, int i, Edge from, int j) {
+  to.s[i] = from.s[j];
+  to.st[i] = from.st[j];
+}
+
+// A block: corners at x0, x1 (x1 >= x0) and y0, y1; owns [x0, xEnd) x [y0, yEnd).
+struct Node {
+  int x0, y0, x1, y1, xEnd, yEnd;
+  Edge top, bottom, left, right;
+  // Set while the node is processed.
+  BlockKind kind;
+  int xm, ym;
+  bool splitX, splitY;
+  Edge v, h; // the inner lines x = xm (0..h) and y = ym (0..w)
+};
+
+// Most blocks processed as one group (their new samples in one batch).
+constexpr int kGroup = 16;
+
+// Samples gathered for one call of trace_samples. A full batch is traced at
+// once; no sample of a batch depends on another, so any cut is fine.
+constexpr int kBatch = 32;
+struct Batch {
+  int n;
+  int x[kBatch], y[kBatch];
+  Sample* out[kBatch];
+  u8* state[kBatch];  // the slot's state, or null (a pixel inside a block)
+  u32* pixel[kBatch]; // the framebuffer pixel to write too, or null
+  Sample spare[kBatch];
+};
+
+struct Context {
+  const AdaptiveFrame* f;
+  RayStats* stats;
+  Batch batch;
+  Edge scratch; // the band's scratch for inner lines; `used` entries taken
+  int used;
+};
 
 Sample trace_sample(const AdaptiveFrame& f, int x, int y, RayStats* stats) {
   Sample s;
@@ -16,6 +97,119 @@ Sample trace_sample(const AdaptiveFrame& f, int x, int y, RayStats* stats) {
   return s;
 }
 
+// The one place the adaptive renderer casts primary rays: *out[i] = the
+// sample at pixel (x[i], y[i]) for i < n. The samples of one batch lie close
+// together (a line of corners, or one split block's new samples and traced
+// pixels), so a packet tracer can take them four at a time.
+void trace_samples(const AdaptiveFrame& f, int n, const int* x, const int* y, Sample* const* out,
+                   RayStats* stats) {
+  for (int i = 0; i < n; ++i)
+    *out[i] = trace_sample(f, x[i], y[i], stats);
+}
+
+void flush(Context& c) {
+  Batch& b = c.batch;
+  if (!b.n) return;
+  const AdaptiveFrame& f = *c.f;
+  trace_samples(f, b.n, b.x, b.y, b.out, c.stats);
+  for (int i = 0; i < b.n; ++i) {
+    if (b.state[i]) *b.state[i] = kKnown;
+    if (b.pixel[i]) *b.pixel[i] = b.out[i]->packed;
+    if (f.kinds) {
+      u8& k = f.kinds[b.y[i] * f.width + b.x[i]];
+      if (k >> kSampleCountShift != 3) k = (u8)(k + (1 << kSampleCountShift));
+    }
+  }
+  b.n = 0;
+}
+
+// Asks for the sample at (x, y) into slot e[0]: traced unless already
+// traced or asked for (an estimated sample is traced).
+void request(Context& c, int x, int y, Edge e) {
+  if (*e.st != kUnknown && *e.st != kEstimated) return;
+  *e.st = kPending;
+  Batch& b = c.batch;
+  b.x[b.n] = x;
+  b.y[b.n] = y;
+  b.out[b.n] = e.s;
+  b.state[b.n] = e.st;
+  b.pixel[b.n] = nullptr;
+  if (++b.n == kBatch) flush(c);
+}
+
+// Asks for the pixel (x, y) inside a block, which no other block reads:
+// traced straight into the framebuffer.
+void request_pixel(Context& c, int x, int y) {
+  Batch& b = c.batch;
+  b.x[b.n] = x;
+  b.y[b.n] = y;
+  b.out[b.n] = &b.spare[b.n];
+  b.state[b.n] = nullptr;
+  b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
+  if (++b.n == kBatch) flush(c);
+}
+
+} // namespace
+
+bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
+  if (!same_path(a.path, b.path)) return false;
+  for (int sh = 0; sh < 24; sh += 8) {
+    int d = (int)(a.packed >> sh & 255) - (int)(b.packed >> sh & 255);
+    if (d > kEstimateContrast || -d > kEstimateContrast) return false;
+  }
+  // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
+  mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
+                              (b.packed >> 1 & 0x7f7f7fu));
+  mid.path = a.path;
+  return true;
+}
+
+namespace {
+
+// The midpoint of a side (slot side[mid], ends side[0] and side[len]):
+// estimated (adaptive_estimate) or asked for.
+void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
+  if (side.st[mid] != kUnknown) return;
+  if (adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
+    side.st[mid] = kEstimated;
+    return;
+  }
+  request(c, x, y, side + mid);
+}
+
+Edge allocate(Context& c, int count) {
+  Edge e = c.scratch + c.used;
+  c.used += count;
+  for (int i = 0; i < count; ++i)
+    e.st[i] = kUnknown;
+  return e;
+}
+
+Node make_node(int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top, Edge bottom, Edge left,
+               Edge right) {
+  Node n;
+  n.x0 = x0;
+  n.y0 = y0;
+  n.x1 = x1;
+  n.y1 = y1;
+  n.xEnd = xEnd;
+  n.yEnd = yEnd;
+  n.top = top;
+  n.bottom = bottom;
+  n.left = left;
+  n.right = right;
+  return n;
+}
+
+// The slot of pixel (x, y) if it lies on a side of the node, else {null}.
+Edge side_slot(const Node& n, int x, int y) {
+  if (y == n.y0) return n.top + (x - n.x0);
+  if (y == n.y1) return n.bottom + (x - n.x0);
+  if (x == n.x0) return n.left + (y - n.y0);
+  if (x == n.x1) return n.right + (y - n.y0);
+  return Edge{nullptr, nullptr};
+}
+
 int grid_count(int size, int block) {
   int n = (size - 1 + block - 1) / block + 1;
   return n < 2 ? 2 : n;
@@ -26,112 +220,259 @@ int grid_coord(int i, int block, int size) {
   return c < size - 1 ? c : size - 1;
 }
 
-// A block: corners at x0, x1 (x1 >= x0) and y0, y1; owns [x0, xEnd) x [y0, yEnd).
-struct Block {
-  int x0, y0, x1, y1, xEnd, yEnd;
-};
+// Scratch entries one band needs: two column arrays of baseBlock + 1, and
+// the inner lines of the split blocks alive at once: per level one group of
+// blocks (one at the base level, four at the next, then at most kGroup); a
+// child is at most half its parent, rounded up.
+int band_scratch(int baseBlock) {
+  int total = 2 * (baseBlock + 1), nodes = 1;
+  for (int s = baseBlock; s >= 2; s = (s + 1) / 2) {
+    total += nodes * 2 * (s + 1);
+    nodes = nodes * 4 < kGroup ? nodes * 4 : kGroup;
+  }
+  return total;
+}
 
-void mark(const AdaptiveFrame& f, const Block& b, BlockKind kind) {
+int states_as_samples(int states) {
+  return (states + (int)sizeof(Sample) - 1) / (int)sizeof(Sample);
+}
+
+// The caller's buffer: the lines of corners (gridH x width samples), then
+// each band's scratch, then one state byte per sample of both.
+int sample_slots(const AdaptiveFrame& f) {
+  return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
+}
+
+Edge line_edge(const AdaptiveFrame& f, int k) {
+  u8* states = (u8*)(f.corners + sample_slots(f));
+  return Edge{f.corners + k * f.width, states + k * f.width};
+}
+
+Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
+  int offset = f.gridH * f.width + band * band_scratch(f.baseBlock);
+  u8* states = (u8*)(f.corners + sample_slots(f));
+  return Edge{f.corners + offset, states + offset};
+}
+
+void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
   if (!f.kinds) return;
   for (int y = b.y0; y < b.yEnd; ++y)
-    for (int x = b.x0; x < b.xEnd; ++x) f.kinds[y * f.width + x] = kind;
+    for (int x = b.x0; x < b.xEnd; ++x) {
+      u8& k = f.kinds[y * f.width + x];
+      k = (u8)((k & ~kKindMask) | kind);
+    }
 }
 
-void fill(const AdaptiveFrame& f, const Block& b, u32 packed) {
+RT64K_COLD void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
   mark(f, b, kCopied);
   if (f.showBlocks) packed = tint_copied(packed);
-  for (int y = b.y0; y < b.yEnd; ++y) {
-    u32* row = f.fb + y * f.stride;
-    for (int x = b.x0; x < b.xEnd; ++x) row[x] = packed;
-  }
+  adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-// Bilinear interpolation of the packed corner colours in 8.16 fixed point:
-// each channel's value at the block's left and right edge is stepped down the
-// rows, and along each row by a constant increment. Rounds to nearest.
-void interpolate(const AdaptiveFrame& f, const Block& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+RT64K_COLD void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01,
+                            u32 c11) {
   mark(f, b, kInterpolated);
-  int spanX = b.x1 - b.x0, spanY = b.y1 - b.y0;
-  i32 invX = spanX ? 65536 / spanX : 0, invY = spanY ? 65536 / spanY : 0;
-  for (int y = b.y0; y < b.yEnd; ++y) {
-    i32 wy = (y - b.y0) * invY;  // 16-bit fraction
-    if (y == b.y1) wy = 65536;
-    u32* row = f.fb + y * f.stride;
-    i32 value[3], step[3], right[3];
-    for (int ch = 0; ch < 3; ++ch) {
-      int sh = 16 - 8 * ch;
-      i32 a = (i32)(c00 >> sh & 255), bb = (i32)(c01 >> sh & 255);
-      i32 c = (i32)(c10 >> sh & 255), d = (i32)(c11 >> sh & 255);
-      i32 l = (a << 16) + (bb - a) * wy;  // left edge, 8.16
-      i32 r = (c << 16) + (d - c) * wy;   // right edge
-      value[ch] = l + 32768;              // + 0.5 rounds to nearest
-      right[ch] = r + 32768;
-      step[ch] = (i32)(((long long)(r - l) * invX) >> 16);
-    }
-    for (int x = b.x0; x < b.xEnd; ++x) {
-      // Only a block at the image's right edge owns its right corner column:
-      // that column takes the right edge's value exactly.
-      const i32* v = x == b.x1 ? right : value;
-      u32 p = 0xff000000u | (u32)(v[0] >> 16) << 16 | (u32)(v[1] >> 16) << 8 | (u32)(v[2] >> 16);
-      row[x] = f.showBlocks ? tint_interpolated(p) : p;
-      for (int ch = 0; ch < 3; ++ch) value[ch] += step[ch];
-    }
-  }
-}
-
-void trace_all(const AdaptiveFrame& f, const Block& b, const Sample& c00, RayStats* stats) {
-  mark(f, b, kTraced);
+  adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
+  if (!f.showBlocks) return;
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x)
-      f.fb[y * f.stride + x] =
-          (x == b.x0 && y == b.y0) ? c00.packed : trace_sample(f, x, y, stats).packed;
+      f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
 }
 
-void process(const AdaptiveFrame& f, const Block& b, const Sample& c00, const Sample& c10,
-             const Sample& c01, const Sample& c11, RayStats* stats) {
-  BlockKind kind = adaptive_decide(c00, c10, c01, c11, f.mode);
-  if (kind == kCopied) {
-    fill(f, b, c00.packed);
-    return;
+bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
+  for (int i = 0; i < s.path.count; ++i) {
+    int id = (int)(s.path.node[i] & 31) - 1;
+    if (id >= 0 && f.scene->objects[id].mat.transmit > 0) return true;
   }
-  if (kind == kInterpolated) {
-    interpolate(f, b, c00.packed, c10.packed, c01.packed, c11.packed);
-    return;
+  return false;
+}
+
+// Blocks this size or smaller are traced per pixel.
+bool is_small(const AdaptiveFrame& f, int w, int h) {
+  return (w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2);
+}
+
+// A small block, traced per pixel. Before the batch (`written` false):
+// asks for every pixel, those on its sides into their slots (other blocks may
+// read them), the rest straight into the picture. After it: writes the
+// pixels on its sides from their slots.
+RT64K_COLD void trace_block(Context& c, const Node& n, bool written) {
+  const AdaptiveFrame& f = *c.f;
+  if (written) mark(f, n, kTraced);
+  for (int y = n.y0; y < n.yEnd; ++y)
+    for (int x = n.x0; x < n.xEnd; ++x) {
+      Edge e = side_slot(n, x, y);
+      if (!e.s) {
+        if (!written) request_pixel(c, x, y);
+      } else if (written) {
+        f.fb[y * f.stride + x] = e.s->packed;
+      } else {
+        request(c, x, y, e);
+      }
+    }
+}
+
+// Processes `count` blocks whose corners are known: copies, interpolates,
+// or asks for the samples of those traced per pixel and the new samples of
+// those split, traces them in one batch, then processes each split block's
+// children the same way.
+void process_group(Context& c, Node* nodes, int count) {
+  const AdaptiveFrame& f = *c.f;
+  int used = c.used;
+  for (int i = 0; i < count; ++i) {
+    Node& n = nodes[i];
+    int w = n.x1 - n.x0, h = n.y1 - n.y0;
+    const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
+    const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
+    n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
+    // Not split: the four records are equal, so c00's stands for all.
+    if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
+      n.kind = kSplit;
+    if (n.kind == kCopied) {
+      fill(f, n, c00.packed);
+      continue;
+    }
+    if (n.kind == kInterpolated) {
+      interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
+      continue;
+    }
+    if (is_small(f, w, h)) {
+      n.kind = kTraced;
+      trace_block(c, n, false);
+      continue;
+    }
+    // Split at the midpoints; sides of length < 2 are not split.
+    n.xm = w >= 2 ? (n.x0 + n.x1) / 2 : n.x1;
+    n.ym = h >= 2 ? (n.y0 + n.y1) / 2 : n.y1;
+    n.splitX = n.xm != n.x1;
+    n.splitY = n.ym != n.y1;
+    int a = n.xm - n.x0, b = n.ym - n.y0;
+    if (n.splitX) {
+      request_midpoint(c, n.xm, n.y0, n.top, a, w);
+      request_midpoint(c, n.xm, n.y1, n.bottom, a, w);
+      n.v = allocate(c, h + 1);
+    }
+    if (n.splitY) {
+      request_midpoint(c, n.x0, n.ym, n.left, b, h);
+      request_midpoint(c, n.x1, n.ym, n.right, b, h);
+      n.h = allocate(c, w + 1);
+    }
+    if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
   }
-  int w = b.x1 - b.x0, h = b.y1 - b.y0;
-  if ((w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2)) {
-    trace_all(f, b, c00, stats);
-    return;
+  flush(c);
+  Node kids[kGroup];
+  int k = 0;
+  for (int i = 0; i < count; ++i) {
+    Node& n = nodes[i];
+    if (n.kind == kTraced) trace_block(c, n, true);
+    if (n.kind != kSplit) continue;
+    int w = n.x1 - n.x0, h = n.y1 - n.y0, a = n.xm - n.x0, b = n.ym - n.y0;
+    if (n.splitX) {
+      copy_slot(n.v, 0, n.top, a);
+      copy_slot(n.v, h, n.bottom, a);
+    }
+    if (n.splitY) {
+      copy_slot(n.h, 0, n.left, b);
+      copy_slot(n.h, w, n.right, b);
+    }
+    if (n.splitX && n.splitY) copy_slot(n.h, a, n.v, b);
+    // The children: quadrants (qx, qy), two halves when one side is not
+    // split (then xm = x1 or ym = y1, and that side's arrays are the block's).
+    // The children of several split blocks form one group, up to kGroup
+    // blocks: their samples go in one batch.
+    int nx = n.splitX ? 2 : 1, ny = n.splitY ? 2 : 1;
+    if (k + nx * ny > kGroup) {
+      process_group(c, kids, k);
+      k = 0;
+    }
+    for (int qy = 0; qy < ny; ++qy)
+      for (int qx = 0; qx < nx; ++qx) {
+        Node& kid = kids[k++];
+        kid.x0 = qx ? n.xm : n.x0;
+        kid.x1 = qx || nx == 1 ? n.x1 : n.xm;
+        kid.xEnd = qx == nx - 1 ? n.xEnd : n.xm;
+        kid.y0 = qy ? n.ym : n.y0;
+        kid.y1 = qy || ny == 1 ? n.y1 : n.ym;
+        kid.yEnd = qy == ny - 1 ? n.yEnd : n.ym;
+        int dx = qx ? a : 0, dy = qy ? b : 0;
+        kid.top = (qy ? n.h : n.top) + dx;
+        kid.bottom = (qy == ny - 1 ? n.bottom : n.h) + dx;
+        kid.left = (qx ? n.v : n.left) + dy;
+        kid.right = (qx == nx - 1 ? n.right : n.v) + dy;
+      }
   }
-  // Split at the midpoints; sides of length < 2 are not split.
-  int xm = w >= 2 ? (b.x0 + b.x1) / 2 : b.x1;
-  int ym = h >= 2 ? (b.y0 + b.y1) / 2 : b.y1;
-  bool splitX = xm != b.x1, splitY = ym != b.y1;
-  Sample top = splitX ? trace_sample(f, xm, b.y0, stats) : c10;
-  Sample bottom = splitX ? trace_sample(f, xm, b.y1, stats) : c11;
-  Sample left = splitY ? trace_sample(f, b.x0, ym, stats) : c01;
-  Sample right = splitY ? trace_sample(f, b.x1, ym, stats) : c11;
-  if (splitX && splitY) {
-    Sample mid = trace_sample(f, xm, ym, stats);
-    process(f, Block{b.x0, b.y0, xm, ym, xm, ym}, c00, top, left, mid, stats);
-    process(f, Block{xm, b.y0, b.x1, ym, b.xEnd, ym}, top, c10, mid, right, stats);
-    process(f, Block{b.x0, ym, xm, b.y1, xm, b.yEnd}, left, mid, c01, bottom, stats);
-    process(f, Block{xm, ym, b.x1, b.y1, b.xEnd, b.yEnd}, mid, right, bottom, c11, stats);
-  } else if (splitX) {  // a block one pixel high: split left/right only
-    process(f, Block{b.x0, b.y0, xm, b.y1, xm, b.yEnd}, c00, top, c01, bottom, stats);
-    process(f, Block{xm, b.y0, b.x1, b.y1, b.xEnd, b.yEnd}, top, c10, bottom, c11, stats);
-  } else {  // a block one pixel wide: split top/bottom only
-    process(f, Block{b.x0, b.y0, b.x1, ym, b.xEnd, ym}, c00, c10, left, right, stats);
-    process(f, Block{b.x0, ym, b.x1, b.y1, b.xEnd, b.yEnd}, left, right, c01, c11, stats);
+  if (k) process_group(c, kids, k);
+  c.used = used;
+}
+
+// Line k of corners is traced by one band next to it: an even band (phase
+// 0), or the last band when only that odd band touches it.
+int line_owner(int k, int bands) {
+  if (k % 2 == 0) return k < bands ? k : k - 1;
+  return k - 1;
+}
+
+RT64K_COLD void trace_line(Context& c, int k) {
+  const AdaptiveFrame& f = *c.f;
+  Edge line = line_edge(f, k);
+  for (int x = 0; x < f.width; ++x)
+    line.st[x] = kUnknown;
+  int y = grid_coord(k, f.baseBlock, f.height);
+  // A one-pixel-high image: both lines are row 0; the band reads line 0 as
+  // its bottom too (run_band), so line 1 is not traced.
+  if (k > 0 && y == grid_coord(k - 1, f.baseBlock, f.height)) return;
+  for (int i = 0; i < f.gridW; ++i) {
+    int x = grid_coord(i, f.baseBlock, f.width);
+    request(c, x, y, line + x);
+  }
+  flush(c);
+}
+
+// A column array for the block side x = x of the band: ends copied from the
+// lines, inside unknown.
+RT64K_COLD void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
+  for (int i = 1; i < h; ++i)
+    col.st[i] = kUnknown;
+  copy_slot(col, 0, top, x);
+  copy_slot(col, h, bottom, x);
+}
+
+void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
+  Context c;
+  c.f = &f;
+  c.stats = stats;
+  c.batch.n = 0;
+  int bands = f.gridH - 1, B = f.baseBlock;
+  for (int k = band; k <= band + 1; ++k)
+    if (line_owner(k, bands) == band) trace_line(c, k);
+  int y0 = grid_coord(band, B, f.height), y1 = grid_coord(band + 1, B, f.height);
+  int yEnd = band + 1 == bands ? f.height : y1, h = y1 - y0;
+  Edge top = line_edge(f, band), bottom = line_edge(f, band + 1);
+  if (h == 0) bottom = top; // a one-pixel-high image
+  Edge scratch = band_scratch_edge(f, band);
+  Edge columns[2] = {scratch, scratch + (B + 1)}; // a block's left side, then its right
+  int left = 0;
+  c.scratch = scratch + 2 * (B + 1);
+  c.used = 0;
+  start_column(columns[left], top, bottom, 0, h);
+  for (int i = 0; i + 1 < f.gridW; ++i) {
+    int x0 = grid_coord(i, B, f.width), x1 = grid_coord(i + 1, B, f.width);
+    int xEnd = i + 2 == f.gridW ? f.width : x1;
+    int right = x1 == x0 ? left : left ^ 1; // a one-pixel-wide image: one column
+    if (right != left) start_column(columns[right], top, bottom, x1, h);
+    Node n =
+        make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, columns[left], columns[right]);
+    process_group(c, &n, 1);
+    left = right;
   }
 }
 
-}  // namespace
+} // namespace
 
 // Colour copy needs equal colours AND equal records: two different objects
 // of one colour are not one surface. Interpolation needs equal records.
-BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10,
-                          const CornerSample& c01, const CornerSample& c11, AdaptiveMode mode) {
+BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
+                          const CornerSample& c11, AdaptiveMode mode) {
   bool samePath = same_path(c00.path, c10.path) && same_path(c00.path, c01.path) &&
                   same_path(c00.path, c11.path);
   if (!samePath) return kSplit;
@@ -140,11 +481,97 @@ BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10,
   return mode == kModeAdaptive ? kInterpolated : kSplit;
 }
 
+// SSE2 through GCC's vector extensions (as trace.cpp): no intrinsics
+// header, which would pull in the C library's.
+typedef i32 v4i __attribute__((vector_size(16)));
+typedef short v8s __attribute__((vector_size(16)));
+typedef char v16c __attribute__((vector_size(16)));
+typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
+
+void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {
+  v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
+  for (int y = y0; y < yEnd; ++y) {
+    u32* row = fb + y * stride;
+    int x = x0;
+    for (; x + 4 <= xEnd; x += 4)
+      *(v4i_unaligned*)(row + x) = four;
+    for (; x < xEnd; ++x)
+      row[x] = packed;
+  }
+}
+
+namespace {
+
+typedef float v4f __attribute__((vector_size(16)));
+
+// A packed colour's channels as floats, lanes blue, green, red, alpha (255).
+inline v4f channels(u32 c) {
+  v4i zero = {0, 0, 0, 0}, word = {(i32)(c | 0xff000000u), 0, 0, 0};
+  v8s lo = (v8s)__builtin_ia32_punpcklbw128((v16c)word, (v16c)zero);
+  return __builtin_convertvector((v4i)__builtin_ia32_punpcklwd128(lo, (v8s)zero), v4f);
+}
+
+// Four pixels' channel values to four packed pixels: rounded to nearest
+// (cvtps2dq), then saturating packs to bytes.
+inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
+  v8s lo = __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p0), __builtin_ia32_cvtps2dq(p1));
+  v8s hi = __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p2), __builtin_ia32_cvtps2dq(p3));
+  return __builtin_ia32_packuswb128(lo, hi);
+}
+
+inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
+
+} // namespace
+
+// Per row, each channel's value at the block's left and right side; along
+// the row a constant step: one pixel's four channels per SSE2 register,
+// four pixels per step. Exact at the corners: row y0 starts at c00 (step
+// 0 from it), row y1 is c01 and c11 themselves, column x1 is the right side.
+void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
+                          u32 c00, u32 c10, u32 c01, u32 c11) {
+  int spanX = x1 - x0, spanY = y1 - y0;
+  v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
+  float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
+  v4f downLeft = (c - a) * invY, downRight = (d - b) * invY; // per row
+  int stepEnd = xEnd > x1 ? x1 : xEnd; // pixels reached by stepping; x1 itself is exact
+  for (int y = y0; y < yEnd; ++y) {
+    v4f left = c, right = d;
+    if (y != y1) {
+      float fy = (float)(y - y0);
+      left = a + downLeft * fy;
+      right = b + downRight * fy;
+    }
+    v4f step = (right - left) * invX;
+    v4f p0 = left, p1 = left + step, p2 = left + step * 2.0f, p3 = left + step * 3.0f;
+    v4f step4 = step * 4.0f;
+    u32* row = fb + y * stride;
+    int x = x0;
+    for (; x + 4 <= stepEnd; x += 4) {
+      *(v4i_unaligned*)(row + x) = (v4i)pack_pixels(p0, p1, p2, p3);
+      p0 += step4;
+      p1 += step4;
+      p2 += step4;
+      p3 += step4;
+    }
+    for (; x < stepEnd; ++x) {
+      row[x] = pack_pixel(p0);
+      p0 += step;
+    }
+    // Only a block at the image's right edge owns its right corner column.
+    if (xEnd > x1) row[x1] = pack_pixel(right);
+  }
+}
+
 u32 tint_copied(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff800000u; }
 u32 tint_interpolated(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff000080u; }
 
 int adaptive_corner_count(int width, int height, int baseBlock) {
-  return grid_count(width, baseBlock) * grid_count(height, baseBlock);
+  AdaptiveFrame f{};
+  f.width = width;
+  f.baseBlock = baseBlock;
+  f.gridH = grid_count(height, baseBlock);
+  int samples = sample_slots(f);
+  return samples + states_as_samples(samples);
 }
 
 void adaptive_begin(AdaptiveFrame& f) {
@@ -153,25 +580,11 @@ void adaptive_begin(AdaptiveFrame& f) {
   f.gridH = grid_count(f.height, f.baseBlock);
 }
 
-int adaptive_items(const AdaptiveFrame& f, int phase) { return phase == 0 ? f.gridH : f.gridH - 1; }
+int adaptive_items(const AdaptiveFrame& f, int phase) {
+  int bands = f.gridH - 1;
+  return phase == 0 ? (bands + 1) / 2 : bands / 2;
+}
 
 void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats) {
-  Sample* grid = f.corners;
-  int B = f.baseBlock;
-  if (phase == 0) {
-    int y = grid_coord(item, B, f.height);
-    for (int i = 0; i < f.gridW; ++i)
-      grid[item * f.gridW + i] = trace_sample(f, grid_coord(i, B, f.width), y, stats);
-    return;
-  }
-  int y0 = grid_coord(item, B, f.height), y1 = grid_coord(item + 1, B, f.height);
-  int yEnd = item + 1 == f.gridH - 1 ? f.height : y1;
-  for (int i = 0; i + 1 < f.gridW; ++i) {
-    int x0 = grid_coord(i, B, f.width), x1 = grid_coord(i + 1, B, f.width);
-    int xEnd = i + 2 == f.gridW ? f.width : x1;
-    const Sample* row0 = grid + item * f.gridW;
-    const Sample* row1 = row0 + f.gridW;
-    process(f, Block{x0, y0, x1, y1, xEnd, yEnd}, row0[i], row0[i + 1], row1[i], row1[i + 1],
-            stats);
-  }
+  run_band(f, 2 * item + phase, stats);
 }

@@ -2,25 +2,41 @@
 // 3.4.2, 5.5.1; SPEC "Adaptive subsampling").
 //
 // The image is cut into square blocks of `baseBlock` pixels. A block's four
-// corners are traced (corners shared by neighbouring blocks are traced once,
-// in phase 0); then, in phase 1, per block:
+// corners are traced; then per block:
 //   * all four corner colours identical      -> fill the block with that colour;
 //   * else all four PathRecords identical     -> bilinear interpolation;
 //   * else, larger than `minBlock`            -> split into four and repeat;
 //   * else                                    -> trace every pixel.
+// Ours beyond the thesis (issue 9, measured in docs/speed-vs-error.md): a
+// block whose corners see glass is filled or interpolated only up to
+// kGlassBlock (4) pixels, else split; and when a block splits, the midpoint
+// of a side whose ends have equal records and colours within
+// kEstimateContrast is estimated from them instead of traced
+// (adaptive_estimate; a pixel traced per pixel is always traced).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
 // has exactly one writer and the picture is the same for any thread count.
 //
+// No sample is traced twice: a sample on an edge two blocks share (a corner,
+// the midpoint of a split block's side, any point of a side at a finer
+// level) is traced by whichever block needs it first and kept for the other,
+// within a row of blocks and across rows. Samples are gathered into batches
+// and traced through one function (adaptive.cpp: trace_samples), the seam
+// where a packet tracer takes over four primary rays at a time.
+//
 // Threads: the core has none. A frame is two phases of independent work
 // items; the caller runs every item of phase 0 (on any threads, in any
-// order), waits for all of them, then every item of phase 1.
+// order), waits for all of them, then every item of phase 1. An item is a
+// row of base blocks (a band): phase 0 the even bands, phase 1 the odd ones.
+// An even band traces the corners on its top and bottom line and keeps every
+// sample it traces on those lines for the odd bands next to it, so the two
+// bands of one phase never touch the same sample.
 #pragma once
 #include "trace.h"
 
 enum AdaptiveMode : u8 {
-  kModeAdaptive,  // colour copy + interpolation + subdivision (the thesis's method)
-  kModeCopyOnly,  // colour copy + subdivision, never interpolate
+  kModeAdaptive, // colour copy + interpolation + subdivision (the thesis's method)
+  kModeCopyOnly, // colour copy + subdivision, never interpolate
 };
 
 // A traced sample: its packed colour and what the decision compares.
@@ -29,39 +45,68 @@ struct CornerSample {
   PathRecord path;
 };
 
+// Largest base block the renderer takes (the tools accept 2..256).
+constexpr int kMaxBaseBlock = 256;
+
 struct AdaptiveFrame {
   // Set by the caller.
   const Scene* scene;
-  u32* fb;  // width x height, `stride` pixels per row
+  u32* fb; // width x height, `stride` pixels per row
   int width, height, stride;
-  int baseBlock;  // >= 2
-  int minBlock;   // >= 1; blocks this size or smaller are traced per pixel
+  int baseBlock; // 2..kMaxBaseBlock
+  int minBlock;  // >= 1; blocks this size or smaller are traced per pixel
   AdaptiveMode mode;
-  bool showBlocks;        // tint copied blocks red, interpolated ones blue
-  CornerSample* corners;  // caller-owned, adaptive_corner_count() entries
-  u8* kinds;  // optional (null: none): per pixel, the BlockKind that filled it
+  bool showBlocks;       // tint copied blocks red, interpolated ones blue
+  CornerSample* corners; // caller-owned, adaptive_corner_count() entries: the samples
+                         // kept on every line of corners, and each band's scratch
+  // Optional (null: none): per pixel (width x height), bits 0-1 the BlockKind
+  // that filled it, bits 6-7 how many samples were traced at that pixel
+  // (saturating at 3; a test of "no sample traced twice"). Reading the
+  // BlockKind: kinds[i] & kKindMask.
+  u8* kinds;
   // Set by adaptive_begin().
   CameraRays cam;
-  int gridW, gridH;  // corners per row / column
+  int gridW, gridH; // corners per row / column
 };
 
 enum BlockKind : u8 { kTraced, kCopied, kInterpolated, kSplit };
+constexpr u8 kKindMask = 3;
+constexpr int kSampleCountShift = 6;
 
 // The decision for a block with these four corner samples.
-BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10,
-                          const CornerSample& c01, const CornerSample& c11, AdaptiveMode mode);
+BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
+                          const CornerSample& c11, AdaptiveMode mode);
 
-// Number of CornerSample entries a frame of this size and block size needs.
+// The midpoint of a block's side whose ends are a and b, estimated instead
+// of traced: when the records of a and b are equal and their colours differ
+// by at most kEstimateContrast / 255 per channel (adaptive.cpp), sets mid to
+// their record and rounded mean colour and returns true.
+bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid);
+
+// Number of CornerSample entries the caller's `corners` buffer needs for a
+// frame of this size and base block (baseBlock in 2..kMaxBaseBlock).
 int adaptive_corner_count(int width, int height, int baseBlock);
 
 // Prepares the frame (camera, grid). Call once per frame before phase 0.
 void adaptive_begin(AdaptiveFrame& f);
 
-// Work items in a phase: phase 0 = rows of corners, phase 1 = rows of blocks.
+// Work items in a phase: phase 0 = even bands of blocks, phase 1 = odd bands.
 int adaptive_items(const AdaptiveFrame& f, int phase);
 
 // Runs one work item; adds the rays it cast to *stats (not null).
 void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats);
+
+// The pixels [x0, xEnd) x [y0, yEnd) of fb (`stride` pixels per row) set to
+// `packed` (colour copy), with SSE2.
+void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed);
+
+// Bilinear interpolation over the pixels [x0, xEnd) x [y0, yEnd) of fb
+// (xEnd <= x1 + 1, yEnd <= y1 + 1) of the packed colours c00 at (x0, y0),
+// c10 at (x1, y0), c01 at (x0, y1), c11 at (x1, y1): 8.16 fixed point per
+// channel, rounded to nearest, exact at the corners; alpha 255. SSE2, four
+// pixels a step.
+void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
+                          u32 c00, u32 c10, u32 c01, u32 c11);
 
 // The showBlocks tints (thesis fig. 5.1: red = colour copy, blue = interpolated).
 u32 tint_copied(u32 packed);

@@ -1,6 +1,8 @@
 // adaptive.cpp - adaptive subsampling renderer; the contract is in adaptive.h.
 #include "adaptive.h"
 
+#include "packet/packet.h"
+
 namespace {
 
 typedef CornerSample Sample;
@@ -9,11 +11,21 @@ Sample trace_sample(const AdaptiveFrame& f, int x, int y, RayStats* stats) {
   Sample s;
   s.path.count = 0;
   TraceContext ctx{f.scene, {1, 0, 0}, &s.path};
-  s.packed = pack_color(trace(ctx, primary_ray(f.cam, (float)x, (float)y), 1));
+  s.packed = pack_color(trace_primary(ctx, f.cam, (float)x, (float)y));
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
   stats->shadow += ctx.stats.shadow;
   return s;
+}
+
+// Up to four samples at once (packet/packet.h): out[k] for pixel (x[k], y[k]).
+void trace_samples4(const AdaptiveFrame& f, const float x[4], const float y[4], int count,
+                    Sample out[4], RayStats* stats) {
+  u32 packed[4];
+  PathRecord path[4];
+  trace_primary4_packed(*f.scene, f.cam, x, y, count, packed, path, stats);
+  for (int k = 0; k < count; ++k)
+    out[k] = Sample{packed[k], path[k]};
 }
 
 int grid_count(int size, int block) {
@@ -81,10 +93,22 @@ void interpolate(const AdaptiveFrame& f, const Block& b, u32 c00, u32 c10, u32 c
 
 void trace_all(const AdaptiveFrame& f, const Block& b, const Sample& c00, RayStats* stats) {
   mark(f, b, kTraced);
+  f.fb[b.y0 * f.stride + b.x0] = c00.packed;
+  float xs[4], ys[4];
+  int n = 0;
   for (int y = b.y0; y < b.yEnd; ++y)
-    for (int x = b.x0; x < b.xEnd; ++x)
-      f.fb[y * f.stride + x] =
-          (x == b.x0 && y == b.y0) ? c00.packed : trace_sample(f, x, y, stats).packed;
+    for (int x = b.x0; x < b.xEnd; ++x) {
+      if (x == b.x0 && y == b.y0) continue;
+      xs[n] = (float)x;
+      ys[n++] = (float)y;
+      bool last = y + 1 == b.yEnd && x + 1 == b.xEnd;
+      if (n < 4 && !last) continue;
+      u32 packed[4];
+      trace_primary4_packed(*f.scene, f.cam, xs, ys, n, packed, nullptr, stats);
+      for (int k = 0; k < n; ++k)
+        f.fb[(int)ys[k] * f.stride + (int)xs[k]] = packed[k];
+      n = 0;
+    }
 }
 
 void process(const AdaptiveFrame& f, const Block& b, const Sample& c00, const Sample& c10,
@@ -148,7 +172,7 @@ int adaptive_corner_count(int width, int height, int baseBlock) {
 }
 
 void adaptive_begin(AdaptiveFrame& f) {
-  f.cam = camera_rays(f.scene->camera, f.width, f.height);
+  f.cam = camera_rays(*f.scene, f.width, f.height);
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
 }
@@ -159,9 +183,13 @@ void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats) 
   Sample* grid = f.corners;
   int B = f.baseBlock;
   if (phase == 0) {
-    int y = grid_coord(item, B, f.height);
-    for (int i = 0; i < f.gridW; ++i)
-      grid[item * f.gridW + i] = trace_sample(f, grid_coord(i, B, f.width), y, stats);
+    float y = (float)grid_coord(item, B, f.height), xs[4], ys[4] = {y, y, y, y};
+    for (int i = 0; i < f.gridW; i += 4) {
+      int n = f.gridW - i < 4 ? f.gridW - i : 4;
+      for (int k = 0; k < n; ++k)
+        xs[k] = (float)grid_coord(i + k, B, f.width);
+      trace_samples4(f, xs, ys, n, grid + item * f.gridW + i, stats);
+    }
     return;
   }
   int y0 = grid_coord(item, B, f.height), y1 = grid_coord(item + 1, B, f.height);

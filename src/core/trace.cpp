@@ -1,6 +1,8 @@
 // trace.cpp - recursive Whitted ray tracing with Phong or Cook-Torrance shading.
 #include "trace.h"
 
+#include "packet/packet.h"
+
 bool same_path(const PathRecord& a, const PathRecord& b) {
   if (a.count != b.count) return false;
   for (int i = 0; i < a.count; ++i)
@@ -122,9 +124,13 @@ Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 }  // namespace
 
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
-  const Scene& s = *ctx.scene;
   Hit hit;
-  int id = nearest(s, ray, hit, skip);
+  int id = nearest(*ctx.scene, ray, hit, skip);
+  return trace_hit(ctx, ray, id, hit, depth, weight);
+}
+
+Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
+  const Scene& s = *ctx.scene;
   u32* node = nullptr;
   PathRecord* rec = ctx.record;
   if (rec && depth <= kRecordDepth && weight >= kRecordWeight && rec->count < kMaxPathNodes) {
@@ -203,6 +209,8 @@ int first_hit_object(const Scene& scene, const Ray& ray) {
   return nearest(scene, ray, hit);
 }
 
+int first_hit(const Scene& scene, const Ray& ray, Hit& hit) { return nearest(scene, ray, hit); }
+
 CameraRays camera_rays(const Camera& cam, int width, int height) {
   Vec3 fwd = normalize(cam.target - cam.pos, Vec3{0, 0, 1});
   Vec3 right = normalize(cross(fwd, cam.up), Vec3{1, 0, 0});
@@ -217,6 +225,12 @@ CameraRays camera_rays(const Camera& cam, int width, int height) {
   return c;
 }
 
+CameraRays camera_rays(const Scene& scene, int width, int height) {
+  CameraRays c = camera_rays(scene.camera, width, height);
+  primary_terms(scene, c.org, c.terms);
+  return c;
+}
+
 u32 pack_color(Vec3 c) {
   auto channel = [](float v) -> u32 {
     if (!(v > 0.0f)) return 0;  // negative and NaN
@@ -226,19 +240,34 @@ u32 pack_color(Vec3 c) {
   return 0xff000000u | channel(c.x) << 16 | channel(c.y) << 8 | channel(c.z);
 }
 
-void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride,
-                      int rowBegin, int rowEnd, RayStats* stats) {
-  TraceContext ctx{&scene, {0, 0, 0}, nullptr};
-  CameraRays cam = camera_rays(scene.camera, width, height);
-  for (int y = rowBegin; y < rowEnd; ++y) {
-    for (int x = 0; x < width; ++x) {
-      ++ctx.stats.primary;
-      fb[y * stride + x] = pack_color(trace(ctx, primary_ray(cam, (float)x, (float)y), 1));
+// Primary rays in packets of four (packet/packet.h: the same pixels as one
+// trace() each): 2x2 pixels on pairs of rows, 4x1 on a last odd row.
+void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride, int rowBegin,
+                      int rowEnd, RayStats* stats) {
+  RayStats rays{0, 0, 0};
+  CameraRays cam = camera_rays(scene, width, height);
+  for (int y = rowBegin; y < rowEnd; y += 2) {
+    bool pair = y + 1 < rowEnd;
+    for (int x = 0; x < width; x += pair ? 2 : 4) {
+      float xs[4], ys[4];
+      int px[4], py[4], count = 0;
+      for (int k = 0; k < 4; ++k) {
+        int lx = pair ? x + (k & 1) : x + k, ly = pair ? y + (k >> 1) : y;
+        if (lx >= width) continue;
+        px[count] = lx;
+        py[count] = ly;
+        xs[count] = (float)lx;
+        ys[count++] = (float)ly;
+      }
+      u32 packed[4];
+      trace_primary4_packed(scene, cam, xs, ys, count, packed, nullptr, &rays);
+      for (int k = 0; k < count; ++k)
+        fb[py[k] * stride + px[k]] = packed[k];
     }
   }
   if (stats) {
-    stats->primary += ctx.stats.primary;
-    stats->secondary += ctx.stats.secondary;
-    stats->shadow += ctx.stats.shadow;
+    stats->primary += rays.primary;
+    stats->secondary += rays.secondary;
+    stats->shadow += rays.shadow;
   }
 }

@@ -1,5 +1,6 @@
 // trace.h - the recursive ray tracer, shading, camera and the full-trace renderer.
 #pragma once
+#include "packet/primary.h"
 #include "scene.h"
 
 // Counts of rays cast, for the bench's rays-per-pixel figures.
@@ -48,16 +49,31 @@ struct TraceContext {
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f, u32 skip = 0);
 constexpr float kMinRayWeight = 1.0f / 128;
 
+// trace() is its nearest-hit search (first_hit()) followed by trace_hit():
+// with `id` and `hit` (t, piece, local) as first_hit() gave them for `ray`,
+// it records the ray, shades the hit and casts the secondary rays, exactly
+// as trace() would. The packet tracer (packet/packet.h) finds first hits its
+// own way and shades each lane through here.
+Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight);
+
 // Index of the object a ray sees first (foreground before background, as
-// trace() does), or -1 when it sees nothing.
+// trace() does), or -1 when it sees nothing. first_hit() also returns the
+// hit's t, piece and local (hit.normal and hit.front are left unset).
 int first_hit_object(const Scene& scene, const Ray& ray);
+int first_hit(const Scene& scene, const Ray& ray, Hit& hit);
 
 // Pinhole camera set up once per frame: pixel (x, y) (x right, y down, both
-// from 0) looks through its centre (x + 0.5, y + 0.5).
+// from 0) looks through its centre (x + 0.5, y + 0.5). Made from a Scene,
+// it also holds `terms`, what every primary ray of that scene shares
+// (packet/primary.h), which the primary-ray tracers (packet/packet.h) need;
+// made from a Camera alone, terms are not set and only primary_ray() and
+// the general tracer may use it.
 struct CameraRays {
   Vec3 org, corner, dx, dy;
+  PrimaryTerms terms;
 };
 CameraRays camera_rays(const Camera& cam, int width, int height);
+CameraRays camera_rays(const Scene& scene, int width, int height);
 inline Ray primary_ray(const CameraRays& c, float x, float y) {
   return Ray{c.org, normalize(c.corner + c.dx * (x + 0.5f) + c.dy * (y + 0.5f))};
 }

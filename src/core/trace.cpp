@@ -241,30 +241,12 @@ u32 pack_color(Vec3 c) {
 }
 
 // Primary rays in packets of four (packet/packet.h: the same pixels as one
-// trace() each): 2x2 pixels on pairs of rows, 4x1 on a last odd row.
-void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride, int rowBegin,
-                      int rowEnd, RayStats* stats) {
+// trace() each).
+void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride,
+                      int rowBegin, int rowEnd, RayStats* stats) {
   RayStats rays{0, 0, 0};
-  CameraRays cam = camera_rays(scene, width, height);
-  for (int y = rowBegin; y < rowEnd; y += 2) {
-    bool pair = y + 1 < rowEnd;
-    for (int x = 0; x < width; x += pair ? 2 : 4) {
-      float xs[4], ys[4];
-      int px[4], py[4], count = 0;
-      for (int k = 0; k < 4; ++k) {
-        int lx = pair ? x + (k & 1) : x + k, ly = pair ? y + (k >> 1) : y;
-        if (lx >= width) continue;
-        px[count] = lx;
-        py[count] = ly;
-        xs[count] = (float)lx;
-        ys[count++] = (float)ly;
-      }
-      u32 packed[4];
-      trace_primary4_packed(scene, cam, xs, ys, count, packed, nullptr, &rays);
-      for (int k = 0; k < count; ++k)
-        fb[py[k] * stride + px[k]] = packed[k];
-    }
-  }
+  render_rows4(scene, camera_rays(scene, width, height), fb, width, stride, rowBegin, rowEnd,
+               &rays);
   if (stats) {
     stats->primary += rays.primary;
     stats->secondary += rays.secondary;

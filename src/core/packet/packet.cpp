@@ -304,25 +304,38 @@ Vec3 trace_primary(TraceContext& ctx, const CameraRays& cam, float x, float y) {
   return trace_hit(ctx, ray, id, hit, 1, 1.0f);
 }
 
-void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4], const float y[4],
-                    int count, Vec3 color[4], PathRecord* paths, RayStats* stats) {
-  Dirs d = pixel_dirs(cam, load_lanes(x, count), load_lanes(y, count));
+namespace {
+
+// trace_primary4() with the pixel coordinates in lanes; lanes outside
+// `live` (bits, the lowest set) hold valid pixels too and are not shaded.
+void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live, Vec3 color[4],
+                 PathRecord* paths, RayStats* stats) {
+  Dirs d = pixel_dirs(cam, x, y);
   Nearest st;
-  nearest_lanes(scene, cam.terms, d, (1u << count) - 1, st);
-  TraceContext ctx{&scene, {(u64)count, 0, 0}, nullptr};
-  for (int k = 0; k < count; ++k) {
-    int id;
+  nearest_lanes(scene, cam.terms, d, live, st);
+  TraceContext ctx{&scene, {0, 0, 0}, nullptr};
+  for (u32 m = live; m; m &= m - 1) {
+    int k = __builtin_ctz(m), id;
     Hit hit;
     lane_hit(st, k, id, hit);
     if (paths) {
       paths[k].count = 0;
       ctx.record = &paths[k];
     }
+    ++ctx.stats.primary;
     color[k] = trace_hit(ctx, Ray{cam.org, d.lane(k)}, id, hit, 1, 1.0f);
   }
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
   stats->shadow += ctx.stats.shadow;
+}
+
+} // namespace
+
+void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4], const float y[4],
+                    int count, Vec3 color[4], PathRecord* paths, RayStats* stats) {
+  trace_lanes(scene, cam, load_lanes(x, count), load_lanes(y, count), (1u << count) - 1, color,
+              paths, stats);
 }
 
 void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],
@@ -332,4 +345,38 @@ void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const floa
   trace_primary4(scene, cam, x, y, count, color, paths, stats);
   for (int k = 0; k < count; ++k)
     packed[k] = pack_color(color[k]);
+}
+
+void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
+                  int rowBegin, int rowEnd, RayStats* stats) {
+  Vec3 color[4];
+  for (int y = rowBegin; y < rowEnd; y += 2) {
+    if (y + 1 < rowEnd) { // 2x2: lanes (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)
+      f4 ly = (float)y + f4{0, 0, 1, 1};
+      u32* row = fb + y * stride;
+      for (int x = 0; x < width; x += 2) {
+        u32 live = x + 1 < width ? 15u : 5u;
+        f4 lx = (float)x + (x + 1 < width ? f4{0, 1, 0, 1} : f4{0, 0, 0, 0});
+        trace_lanes(scene, cam, lx, ly, live, color, nullptr, stats);
+        row[x] = pack_color(color[0]);
+        row[x + stride] = pack_color(color[2]);
+        if (live == 15u) {
+          row[x + 1] = pack_color(color[1]);
+          row[x + 1 + stride] = pack_color(color[3]);
+        }
+      }
+    } else { // a last single row: 4x1
+      f4 ly = f4_of((float)y);
+      u32* row = fb + y * stride;
+      for (int x = 0; x < width; x += 4) {
+        int n = width - x < 4 ? width - x : 4;
+        f4 lx = (float)x + f4{0, 1, 2, 3};
+        for (int k = n; k < 4; ++k)
+          lx[k] = (float)x;
+        trace_lanes(scene, cam, lx, ly, (1u << n) - 1, color, nullptr, stats);
+        for (int k = 0; k < n; ++k)
+          row[x + k] = pack_color(color[k]);
+      }
+    }
+  }
 }

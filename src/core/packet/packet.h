@@ -41,3 +41,9 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
 void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],
                            const float y[4], int count, u32 packed[4], PathRecord* paths,
                            RayStats* stats);
+
+// Full trace of rows [rowBegin, rowEnd) of a `width`-pixel-wide image into
+// fb (`stride` pixels per row), in 2x2 packets (4x1 on a last odd row):
+// render_full_rows() (trace.h) with cam = camera_rays(scene, width, height).
+void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
+                  int rowBegin, int rowEnd, RayStats* stats);

@@ -102,9 +102,15 @@ Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32
 
 // Cook-Torrance specular factor F D G / (N.V), the 1/(N.L) of the model
 // cancelled by the N.L of the incoming irradiance (Cook & Torrance 1982:
-// I_r = I_L (N.L) dw (s R_s + d R_d)). D's constant c = 1/(pi m^2) makes the
-// Gaussian lobe integrate to ~1 over the projected hemisphere for small m,
-// so roughness changes a highlight's width, not its energy.
+// I_r = I_L (N.L) dw (s R_s + d R_d)). D is their Beckmann distribution
+// exp(-tan^2(a) / m^2) / (m^2 cos^4(a)) with the 1/pi of their
+// R_s = F D G / (pi (N.L)(N.V)) folded in; so normalised, its lobe
+// integrates to exactly 1 over the projected hemisphere (Walter et al.,
+// EGSR 2007, eq. 33), and roughness changes a highlight's width, not its
+// energy. It needs only cos^2(a) = (N.H)^2: tan^2(a) = (1 - cos^2) / cos^2.
+// (Until issue 9 D was the Gaussian exp(-(a/m)^2) / (pi m^2), which needed
+// a = acos(N.H) and integrates to 0.99, 0.97, 0.92 for the scenes' m =
+// 0.12, 0.22, 0.35.) Below kCos2Min, D is 0.
 float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
   Vec3 H = normalize(L + V, N);
   float NdotH = rt_clamp(dot(N, H), 0.0f, 1.0f);
@@ -113,8 +119,8 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
   float VdotH = rt_max(dot(V, H), kCosEps);
   float x = 1.0f - VdotH, x2 = x * x;
   float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);
-  float a = rt_acos(NdotH) / m.roughness;
-  float D = rt_exp(-a * a) / (kPi * m.roughness * m.roughness);
+  float c2 = NdotH * NdotH, m2 = m.roughness * m.roughness;
+  float D = c2 > kCos2Min ? rt_exp((c2 - 1.0f) / (c2 * m2)) / (kPi * m2 * c2 * c2) : 0.0f;
   float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
   return F * D * G / NdotV;
 }

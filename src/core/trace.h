@@ -92,3 +92,8 @@ void render_full_rows(const Scene& scene, u32* fb, int width, int height, int st
 // stay finite at grazing angles. 1e-4 is cos(89.994 deg): the clamp only
 // acts within 0.006 deg of grazing, where G has already driven the term to 0.
 constexpr float kCosEps = 1e-4f;
+// kCos2Min: the Beckmann D is taken as 0 where (N.H)^2 <= 1e-4 (the half
+// vector beyond 89.4 deg from N): there its exponent -(1 - c^2) / (c^2 m^2)
+// is below -99 for every roughness m <= 10, where rt_exp() is already 0, and
+// the floor keeps c^4 a normal float, so 0 / 0 cannot occur.
+constexpr float kCos2Min = 1e-4f;

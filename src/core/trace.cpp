@@ -139,7 +139,8 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   const Scene& s = *ctx.scene;
   u32* node = nullptr;
   PathRecord* rec = ctx.record;
-  if (rec && depth <= kRecordDepth && weight >= kRecordWeight && rec->count < kMaxPathNodes) {
+  bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
+  if (rec && recordable && rec->count < kMaxPathNodes) {
     node = &rec->node[rec->count++];
     *node = (u32)(id + 1);
   }
@@ -163,22 +164,31 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
     // the diffuse term fades to 0 at the terminator, so there is no edge
     // there to split on (a cast shadow, code 3, is one).
     int code = 0;
-    Vec3 through = v3(0.0f);
-    if (NdotL > 0)
-      through = transmittance(ctx, lightOrg, L, dist, code,
-                              leaves_for_good(obj.shape, hit, L) ? self : 0);
-    u32 bits = (u32)code;
-    if (NdotL > 0 && code != 3) {
+    u32 bits = 0;
+    if (NdotL > 0) {
+      // The light's term unshadowed; a shadow ray scales it by its transmittance.
       float spec;
+      Vec3 lit;
       if (s.model == kPhong) {
         float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
         spec = m.specular * rt_pow(VdotR, m.shininess);
-        color += (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color * through;
+        lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
       } else {
         spec = m.specular * cook_torrance(m, N, V, L) * NdotL;
-        color += m.color * (m.diffuse * NdotL + spec) * light.color * through;
+        lit = m.color * (m.diffuse * NdotL + spec) * light.color;
       }
-      if (spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
+      // A ray the records leave out whose term can move the pixel by less
+      // than kShadowSkip casts no shadow ray: it counts as lit (with or
+      // without a record, the colour is the same).
+      Vec3 through = v3(1.0f);
+      if (recordable || weight * max_abs(lit) >= kShadowSkip)
+        through = transmittance(ctx, lightOrg, L, dist, code,
+                                leaves_for_good(obj.shape, hit, L) ? self : 0);
+      bits = (u32)code;
+      if (code != 3) {
+        color += lit * through;
+        if (spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
+      }
     }
     if (node) *node |= bits << (5 + 3 * li);
   }

@@ -44,14 +44,19 @@ struct TraceContext {
 // to 1 their share of a pixel is under 4/255 (1/128 until issue 9; 1/64
 // costs a min PSNR of 52.4 dB against it over the 256 bench frames, max
 // error 38/255 where a cut ray would have seen a highlight above 1, and
-// saves 6 % of a scene-1 and 11-13 % of a scene-2 full frame). That is a
-// choice of the tracer (full and adaptive renderers trace alike), not an
-// adaptive-renderer error (docs/speed-vs-error.md).
+// saves 6 % of a scene-1 and 11-13 % of a scene-2 full frame). A light's
+// term at a hit of a ray that records would leave out (deeper than
+// kRecordDepth or lighter than kRecordWeight) gets no shadow ray when it can
+// move the pixel by less than kShadowSkip (weight times its largest channel
+// unshadowed): it counts as lit. These are choices of the
+// tracer (full and adaptive renderers trace alike), not adaptive-renderer
+// errors (docs/speed-vs-error.md).
 // The result is finite and non-negative in every channel. Objects whose bit
 // (1 << index) is set in `skip` are not tested: a secondary ray skips the
 // object it leaves when leaves_for_good() (shapes.h) says it cannot meet it again.
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f, u32 skip = 0);
 constexpr float kMinRayWeight = 1.0f / 64;
+constexpr float kShadowSkip = 2.0f / 255;
 
 // trace() is its nearest-hit search (first_hit()) followed by trace_hit():
 // with `id` and `hit` (t, piece, local) as first_hit() gave them for `ray`,

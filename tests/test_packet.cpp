@@ -325,9 +325,9 @@ TEST(Packet, RaysOnTheStageDiagonalMatchAndDoNotLeak) {
   EXPECT_GT(perTriangle[1], m.rays / 10);
 }
 
-// The full renderer (packets of 2x2 on row pairs, 4x1 on a last odd row,
-// short packets at an odd right edge) writes trace()'s pixels for any row
-// range, and counts the same rays.
+// The full renderer (packets of four pixels of a row, a short packet at the
+// right edge when the width is not a multiple of 4) writes trace()'s pixels
+// for any row range, and counts the same rays.
 TEST(Packet, FullRenderAnyRowRangeAndOddSizesEqualsTrace) {
   Scene s;
   build_timeline_scene(s, 44.0);

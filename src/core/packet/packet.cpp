@@ -350,33 +350,16 @@ void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const floa
 void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
                   int rowBegin, int rowEnd, RayStats* stats) {
   Vec3 color[4];
-  for (int y = rowBegin; y < rowEnd; y += 2) {
-    if (y + 1 < rowEnd) { // 2x2: lanes (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)
-      f4 ly = (float)y + f4{0, 0, 1, 1};
-      u32* row = fb + y * stride;
-      for (int x = 0; x < width; x += 2) {
-        u32 live = x + 1 < width ? 15u : 5u;
-        f4 lx = (float)x + (x + 1 < width ? f4{0, 1, 0, 1} : f4{0, 0, 0, 0});
-        trace_lanes(scene, cam, lx, ly, live, color, nullptr, stats);
-        row[x] = pack_color(color[0]);
-        row[x + stride] = pack_color(color[2]);
-        if (live == 15u) {
-          row[x + 1] = pack_color(color[1]);
-          row[x + 1 + stride] = pack_color(color[3]);
-        }
-      }
-    } else { // a last single row: 4x1
-      f4 ly = f4_of((float)y);
-      u32* row = fb + y * stride;
-      for (int x = 0; x < width; x += 4) {
-        int n = width - x < 4 ? width - x : 4;
-        f4 lx = (float)x + f4{0, 1, 2, 3};
-        for (int k = n; k < 4; ++k)
-          lx[k] = (float)x;
-        trace_lanes(scene, cam, lx, ly, (1u << n) - 1, color, nullptr, stats);
-        for (int k = 0; k < n; ++k)
-          row[x + k] = pack_color(color[k]);
-      }
+  for (int y = rowBegin; y < rowEnd; ++y) {
+    u32* row = fb + y * stride;
+    for (int x = 0; x < width; x += 4) {
+      int n = width - x < 4 ? width - x : 4;
+      f4 lx = (float)x + f4{0, 1, 2, 3};
+      for (int k = n; k < 4; ++k)
+        lx[k] = (float)x; // idle lanes repeat lane 0
+      trace_lanes(scene, cam, lx, f4_of((float)y), (1u << n) - 1, color, nullptr, stats);
+      for (int k = 0; k < n; ++k)
+        row[x + k] = pack_color(color[k]);
     }
   }
 }

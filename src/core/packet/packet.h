@@ -43,9 +43,9 @@ void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const floa
                            RayStats* stats);
 
 // Full trace of rows [rowBegin, rowEnd) of a `width`-pixel-wide image into
-// fb (`stride` pixels per row), in packets of four pixels of a row (2x2
-// packets measured 0.4-0.6 % fewer instructions per frame, not worth their
-// code): render_full_rows() (trace.h) with cam = camera_rays(scene, width,
-// height).
+// fb (`stride` pixels per row), in packets of four pixels of a row:
+// render_full_rows() (trace.h) with cam = camera_rays(scene, width, height).
+// (2x2 packets measured 0.4-0.6 % fewer instructions per frame, and only
+// for work items of two rows or more; the tool's are one row.)
 void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
                   int rowBegin, int rowEnd, RayStats* stats);

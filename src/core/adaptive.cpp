@@ -17,6 +17,8 @@
 // if a block traced per pixel needs it).
 #include "adaptive.h"
 
+#include "packet/packet.h"
+
 namespace {
 
 typedef CornerSample Sample;
@@ -86,25 +88,27 @@ struct Context {
   int used;
 };
 
-Sample trace_sample(const AdaptiveFrame& f, int x, int y, RayStats* stats) {
-  Sample s;
-  s.path.count = 0;
-  TraceContext ctx{f.scene, {1, 0, 0}, &s.path};
-  s.packed = pack_color(trace(ctx, primary_ray(f.cam, (float)x, (float)y), 1));
-  stats->primary += ctx.stats.primary;
-  stats->secondary += ctx.stats.secondary;
-  stats->shadow += ctx.stats.shadow;
-  return s;
-}
-
 // The one place the adaptive renderer casts primary rays: *out[i] = the
 // sample at pixel (x[i], y[i]) for i < n. The samples of one batch lie close
 // together (a line of corners, or one split block's new samples and traced
 // pixels), so a packet tracer can take them four at a time.
 void trace_samples(const AdaptiveFrame& f, int n, const int* x, const int* y, Sample* const* out,
                    RayStats* stats) {
-  for (int i = 0; i < n; ++i)
-    *out[i] = trace_sample(f, x[i], y[i], stats);
+  for (int i = 0; i < n; i += 4) {
+    int count = n - i < 4 ? n - i : 4;
+    float xs[4], ys[4];
+    u32 packed[4];
+    PathRecord paths[4];
+    for (int k = 0; k < count; ++k) {
+      xs[k] = (float)x[i + k];
+      ys[k] = (float)y[i + k];
+    }
+    trace_primary4_packed(*f.scene, f.cam, xs, ys, count, packed, paths, stats);
+    for (int k = 0; k < count; ++k) {
+      out[i + k]->packed = packed[k];
+      out[i + k]->path = paths[k];
+    }
+  }
 }
 
 void flush(Context& c) {
@@ -575,7 +579,7 @@ int adaptive_corner_count(int width, int height, int baseBlock) {
 }
 
 void adaptive_begin(AdaptiveFrame& f) {
-  f.cam = camera_rays(f.scene->camera, f.width, f.height);
+  f.cam = camera_rays(*f.scene, f.width, f.height);
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
 }

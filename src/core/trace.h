@@ -1,5 +1,6 @@
 // trace.h - the recursive ray tracer, shading, camera and the full-trace renderer.
 #pragma once
+#include "packet/primary.h"
 #include "scene.h"
 
 // Counts of rays cast, for the bench's rays-per-pixel figures.
@@ -40,24 +41,48 @@ struct TraceContext {
 // Colour seen along `ray` (unit direction). depth is 1 for a primary ray;
 // weight is the ray's share of the pixel (1 for a primary ray). Secondary
 // rays whose weight falls below kMinRayWeight are not cast: for radiance up
-// to 1 their share of a pixel is under 2/255. That is a choice of the tracer
-// (full and adaptive renderers trace alike), not an adaptive-renderer error.
+// to 1 their share of a pixel is under 4/255 (1/128 until issue 9; 1/64
+// costs a min PSNR of 52.4 dB against it over the 256 bench frames, max
+// error 38/255 where a cut ray would have seen a highlight above 1, and
+// saves 6 % of a scene-1 and 11-13 % of a scene-2 full frame). A light's
+// term at a hit of a ray that records would leave out (deeper than
+// kRecordDepth or lighter than kRecordWeight) gets no shadow ray when it can
+// move the pixel by less than kShadowSkip (weight times its largest channel
+// unshadowed): it counts as lit. These are choices of the
+// tracer (full and adaptive renderers trace alike), not adaptive-renderer
+// errors (docs/speed-vs-error.md).
 // The result is finite and non-negative in every channel. Objects whose bit
 // (1 << index) is set in `skip` are not tested: a secondary ray skips the
 // object it leaves when leaves_for_good() (shapes.h) says it cannot meet it again.
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f, u32 skip = 0);
-constexpr float kMinRayWeight = 1.0f / 128;
+constexpr float kMinRayWeight = 1.0f / 64;
+constexpr float kShadowSkip = 2.0f / 255;
+
+// trace() is its nearest-hit search (first_hit()) followed by trace_hit():
+// with `id` and `hit` (t, piece, local) as first_hit() gave them for `ray`,
+// it records the ray, shades the hit and casts the secondary rays, exactly
+// as trace() would. The packet tracer (packet/packet.h) finds first hits its
+// own way and shades each lane through here.
+Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight);
 
 // Index of the object a ray sees first (foreground before background, as
-// trace() does), or -1 when it sees nothing.
+// trace() does), or -1 when it sees nothing. first_hit() also returns the
+// hit's t, piece and local (hit.normal and hit.front are left unset).
 int first_hit_object(const Scene& scene, const Ray& ray);
+int first_hit(const Scene& scene, const Ray& ray, Hit& hit);
 
 // Pinhole camera set up once per frame: pixel (x, y) (x right, y down, both
-// from 0) looks through its centre (x + 0.5, y + 0.5).
+// from 0) looks through its centre (x + 0.5, y + 0.5). Made from a Scene,
+// it also holds `terms`, what every primary ray of that scene shares
+// (packet/primary.h), which the primary-ray tracers (packet/packet.h) need;
+// made from a Camera alone, terms are not set and only primary_ray() and
+// the general tracer may use it.
 struct CameraRays {
   Vec3 org, corner, dx, dy;
+  PrimaryTerms terms;
 };
 CameraRays camera_rays(const Camera& cam, int width, int height);
+CameraRays camera_rays(const Scene& scene, int width, int height);
 inline Ray primary_ray(const CameraRays& c, float x, float y) {
   return Ray{c.org, normalize(c.corner + c.dx * (x + 0.5f) + c.dy * (y + 0.5f))};
 }
@@ -76,3 +101,8 @@ void render_full_rows(const Scene& scene, u32* fb, int width, int height, int st
 // stay finite at grazing angles. 1e-4 is cos(89.994 deg): the clamp only
 // acts within 0.006 deg of grazing, where G has already driven the term to 0.
 constexpr float kCosEps = 1e-4f;
+// kCos2Min: the Beckmann D is taken as 0 where (N.H)^2 <= 1e-4 (the half
+// vector beyond 89.4 deg from N): there its exponent -(1 - c^2) / (c^2 m^2)
+// is below -99 for every roughness m <= 10, where rt_exp() is already 0, and
+// the floor keeps c^4 a normal float, so 0 / 0 cannot occur.
+constexpr float kCos2Min = 1e-4f;

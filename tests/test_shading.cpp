@@ -88,9 +88,10 @@ FloorShot shade_floor(const Material& m, ShadingModel model, double thetaV, doub
   out.color = shoot(s, V * 10.0f, dir);
   out.V = D3{-double(dir.x), -double(dir.y), -double(dir.z)};
   // The tracer aims its light direction from the hit point lifted off the
-  // surface by spawn_offset (trace.cpp), which at the horizon decides
-  // whether the light is above or below: the reference does the same.
-  double lift = spawn_offset(v3(0, 0, 0));
+  // surface by spawn_offset (trace.cpp; the floor's size is 0 and the view
+  // ray's length 10), which at the horizon decides whether the light is
+  // above or below: the reference does the same.
+  double lift = spawn_offset(v3(0, 0, 0), 10.0f);
   out.L = unit(D3{lightPos.x, lightPos.y - lift, lightPos.z});
   return out;
 }
@@ -107,13 +108,14 @@ D3 phong_ref(const Material& m, D3 V, D3 L) {
 
 // Cook-Torrance as trace.h/trace.cpp document it, in double: colour (r_D N.L +
 // r_S F D G / (N.V) N.L), Schlick F, D = exp(-(alpha/m)^2) / (pi m^2),
-// G = min(1, 2 (N.H) min(N.V, N.L) / (V.H)), N.V and V.H floored at kCosEps.
+// G = min(1, 2 (N.H) min(N.V, N.L) / (V.H)), N.V floored at kCosEps and V.H
+// at (N.V + N.L) / 2 (an identity for the half vector: trace.h).
 D3 cook_ref(const Material& m, D3 V, D3 L) {
   double NdotL = L.y;
   if (NdotL <= 0) return {0, 0, 0};
   D3 H = unit(D3{L.x + V.x, L.y + V.y, L.z + V.z});
   double NdotH = std::clamp(H.y, 0.0, 1.0), NdotV = std::max(V.y, double(kCosEps));
-  double VdotH = std::max(dot(V, H), double(kCosEps));
+  double VdotH = std::max(dot(V, H), 0.5 * (NdotV + NdotL));
   double F = m.f0 + std::pow(1 - VdotH, 5) * (1 - m.f0);
   double a = std::acos(NdotH) / m.roughness;
   double D = std::exp(-a * a) / (M_PI * m.roughness * m.roughness);
@@ -267,12 +269,14 @@ double measured_sin_entering(double thetaI, float n) {
   scene_add_light(s, v3(0, float(-depth + h), 0), v3(1));
   Vec3 dir = v3(float(std::sin(thetaI)), float(-std::cos(thetaI)), 0);
   Vec3 c = shoot(s, dir * -5.0f, dir); // through the origin
-  // The refracted ray leaves from (0, -off0, 0) (spawn_origin at the origin);
-  // the target point is lifted by its own offset before N.L is taken.
-  double off0 = spawn_offset(v3(0, 0, 0));
+  // The refracted ray leaves from (0, -off0, 0) (spawn_origin at the origin,
+  // 5 along the primary ray); the target point is lifted by its own offset
+  // before N.L is taken.
+  double off0 = spawn_offset(v3(0, 0, 0), 5.0f);
   double rho = 0;
   for (int it = 0; it < 3; ++it) { // the target's offset depends on where it is
-    double offT = spawn_offset(v3(float(rho), float(-depth), 0));
+    double offT =
+        spawn_offset(v3(float(rho), float(-depth), 0), float(std::sqrt(rho * rho + depth * depth)));
     rho = rho_from_intensity(c.x, h - offT);
   }
   double tanT = rho / (depth - off0);
@@ -312,12 +316,13 @@ Leaving leaving_glass(double thetaI, float n) {
   Vec3 dir = v3(float(std::sin(thetaI)), float(std::cos(thetaI)), 0);
   Leaving out;
   out.color = shoot(s, dir * -0.5f, dir); // hits the glass surface at the origin
-  double off0 = spawn_offset(v3(0, 0, 0));
+  double off0 = spawn_offset(v3(0, 0, 0), 0.5f);
   bool refracted = out.color.y > 0;
   double I = refracted ? out.color.y : out.color.x, dist = refracted ? up : down;
   double rho = 0;
   for (int it = 0; it < 3; ++it) {
-    double offT = spawn_offset(v3(float(rho), float(refracted ? up : -down), 0));
+    double offT = spawn_offset(v3(float(rho), float(refracted ? up : -down), 0),
+                               float(std::sqrt(rho * rho + dist * dist)));
     rho = rho_from_intensity(I, h - offT);
   }
   double tanO = rho / (dist - off0);
@@ -388,14 +393,17 @@ TEST(Refraction, ThroughGlassSphereDeviatesBySnell) {
     // Reference path.
     D3 d{0, 0, 1}, p1{b, 0, -std::sqrt(1 - b * b)};
     D3 t1 = refract_ref(d, p1, 1 / double(n));
-    D3 o1 = add(p1, p1, -spawn_offset(v3(float(p1.x), 0, float(p1.z)))); // pushed inside
-    double bq = dot(o1, t1), cq = dot(o1, o1) - 1;
-    D3 p2 = add(o1, t1, -bq + std::sqrt(bq * bq - cq)); // the far side
+    // Offsets scale with the sphere's size (1) plus each ray's length.
+    double len1 = 10 + p1.z;
+    D3 o1 = add(p1, p1, -spawn_offset(v3(float(p1.x), 0, float(p1.z)), float(1 + len1)));
+    double bq = dot(o1, t1), cq = dot(o1, o1) - 1, len2 = -bq + std::sqrt(bq * bq - cq);
+    D3 p2 = add(o1, t1, len2); // the far side
     D3 inward{-p2.x, -p2.y, -p2.z};
     D3 t2 = refract_ref(t1, inward, n);
-    D3 o2 = add(p2, p2, spawn_offset(v3(float(p2.x), 0, float(p2.z)))); // pushed outside
-    double landX = o2.x + t2.x * (Z - o2.z) / t2.z;
-    double rho = rho_from_intensity(c.x, h - spawn_offset(v3(float(landX), 0, float(Z))));
+    D3 o2 = add(p2, p2, spawn_offset(v3(float(p2.x), 0, float(p2.z)), float(1 + len2)));
+    double len3 = (Z - o2.z) / t2.z, landX = o2.x + t2.x * len3;
+    double rho =
+        rho_from_intensity(c.x, h - spawn_offset(v3(float(landX), 0, float(Z)), float(len3)));
     double err = std::fabs((xL - rho) - landX);
     worst = std::max(worst, err);
     // A wrong index, a swapped n1/n2 or a missed exit moves it by metres.

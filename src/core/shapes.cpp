@@ -1,34 +1,78 @@
 // shapes.cpp - ray/shape intersection under the contract in shapes.h.
 #include "shapes.h"
 
-Shape make_sphere(Vec3 centre, float radius) {
+namespace {
+
+bool finite3(Vec3 v) { return rt_finite(v.x) && rt_finite(v.y) && rt_finite(v.z); }
+
+// Unit vector along a, scaled by 1 / max_abs(a) first so that neither tiny
+// nor huge lengths under- or overflow; false when a is zero, denormal (its
+// reciprocal would overflow) or not finite: no direction to take.
+bool unit_dir(Vec3 a, Vec3& out) {
+  float m = max_abs(a);
+  if (!(m >= kFloatMin && m <= kFloatMax)) return false;
+  a = a * (1.0f / m); // max_abs(a) = 1 (within rounding): |a|^2 in [1, 3]
+  out = a * (1.0f / rt_sqrt(dot(a, a)));
+  return true;
+}
+
+bool in_size_domain(float x) { return x >= kMinSize && x <= kMaxCoord; }
+bool in_coord_domain(Vec3 p) { return finite3(p) && max_abs(p) <= kMaxCoord; }
+
+Shape empty_shape() {
   Shape s{};
+  s.kind = kEmpty;
+  return s;
+}
+
+} // namespace
+
+// Each builder returns its one named Shape on every path, so the copy is
+// elided and the padding bytes stay zero (tests compare shapes bytewise).
+Shape make_sphere(Vec3 centre, float radius) {
+  Shape s = empty_shape();
+  if (!in_coord_domain(centre) || !in_size_domain(radius)) return s;
   s.kind = kSphere;
   s.a = centre;
   s.r0 = radius;
+  s.size = radius;
   return s;
 }
 
 Shape make_plane(Vec3 normal, float offset) {
-  Shape s{};
+  Shape s = empty_shape();
+  Vec3 n;
+  if (!unit_dir(normal, n) || !(rt_abs(offset) <= kMaxCoord)) return s;
   s.kind = kPlane;
-  s.a = normalize(normal);
+  s.a = n;
   s.r0 = offset;
   return s;
 }
 
 Shape make_cone(Vec3 base, Vec3 axis, float baseRadius, float topRadius, float height, u8 caps) {
-  Shape s{};
+  Shape s = empty_shape();
+  float rMax = rt_max(baseRadius, topRadius);
+  Vec3 b;
+  if (!in_coord_domain(base) || !unit_dir(axis, b) || !in_size_domain(height) ||
+      !in_size_domain(rMax) || !(baseRadius >= 0 && topRadius >= 0) ||
+      !(height >= kMinAspect * rMax && height <= kMaxAspect * rMax))
+    return s;
+  s.b = b;
   s.kind = baseRadius == topRadius ? kCylinder : kCone;
-  s.caps = caps;
+  // A cap of radius 0 (a cone's apex) has no area: no cap.
+  s.caps = caps & (kCapBase | kCapTop);
+  if (baseRadius == 0) s.caps &= (u8)~kCapBase;
+  if (topRadius == 0) s.caps &= (u8)~kCapTop;
   s.a = base;
-  s.b = normalize(axis);
   s.r0 = baseRadius;
   s.r1 = topRadius;
   s.h = height;
   // Per-shape constants of hit_frustum(), computed once here.
-  s.c.x = (topRadius - baseRadius) / height;
-  s.c.y = max_abs(base) + height + baseRadius + topRadius;
+  float slope = (topRadius - baseRadius) / height;
+  s.c.x = slope;
+  s.c.y = height + rMax;
+  s.c.z = rt_abs(slope) > 1 ? 2.0f : 0.5f; // see frustum_frame()
+  s.size = rt_sqrt(0.25f * height * height + rMax * rMax);
   return s;
 }
 
@@ -37,13 +81,30 @@ Shape make_cylinder(Vec3 base, Vec3 axis, float radius, float height, u8 caps) {
 }
 
 Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
-  Shape s{};
+  Shape s = empty_shape();
+  if (!in_coord_domain(a) || !in_coord_domain(b) || !in_coord_domain(c)) return s;
+  // n = cross(b - a, c - a) in double: the differences of floats and their
+  // products are exact or within 2^-53, so a zero n means collinear vertices
+  // and a tiny one still has the right direction.
+  double e1x = (double)b.x - a.x, e1y = (double)b.y - a.y, e1z = (double)b.z - a.z;
+  double e2x = (double)c.x - a.x, e2y = (double)c.y - a.y, e2z = (double)c.z - a.z;
+  Vec3 n = v3((float)(e1y * e2z - e1z * e2y), (float)(e1z * e2x - e1x * e2z),
+              (float)(e1x * e2y - e1y * e2x));
+  float m = max_abs(n);
+  if (!(m >= kFloatMin && m <= kFloatMax)) return s; // no area a float normal can hold
+  // Scaled by the power of two that brings max_abs(n) into [1, 2), and
+  // sideMargin with it: exact, so hit_triangle()'s side test decides as with
+  // the raw cross product, and normalize(n) in hit_normal() neither under-
+  // nor overflows for any triangle in the domain.
+  float pow2 = rt_from_bits((254u - (rt_bits(m) >> 23)) << 23); // 2^-floor(log2 m)
   s.kind = kTriangle;
   s.a = a;
   s.b = b;
   s.c = c;
-  s.n = cross(b - a, c - a);
-  s.sideMargin = kSideRel * max_abs(b - a) * max_abs(c - a);
+  s.n = n * pow2;
+  s.sideMargin = kSideRel * max_abs(b - a) * max_abs(c - a) * pow2;
+  Vec3 centre = (a + b + c) * (1.0f / 3);
+  s.size = rt_max(length(a - centre), rt_max(length(b - centre), length(c - centre)));
   return s;
 }
 
@@ -98,77 +159,142 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return accept(t, tMin, 0, 0.0f, hit);
 }
 
+// The normal from the same stable quantities: the hit point relative to the
+// centre is f + t d = perp + (t + b) d, and t + b = -+sqrt(disc) for the near
+// and far root, so m = perp -+ sqrt(disc) d with |m|^2 = |perp|^2 + disc = r^2
+// up to rounding: m has the sphere's size whatever the distance, never
+// cancels to zero, and no hit point rounded to world coordinates enters.
+// (p - centre, as before, lost the normal when r fell below the float
+// spacing of p: zero-length or invented normals, issue 10 class 6.)
 void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
-  Vec3 p = ray.org + ray.dir * hit.t;
-  face(normalize((p - s.a) * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
+  Vec3 f = ray.org - s.a;
+  float b = dot(f, ray.dir);
+  Vec3 perp = f - ray.dir * b;
+  float root = rt_sqrt(rt_max(s.r0 * s.r0 - dot(perp, perp), 0.0f));
+  Vec3 m = perp + ray.dir * (hit.t < -b ? -root : root);
+  face(normalize(m * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
+}
+
+// Plane in double: the products of the float normal and ray are exact in
+// double and the sums round at 2^-53, so cos = dot(a, dir) is known to
+// ~2^-52 and its sign is right for |cos| >= 2^-50: a ray within 1e-9 of
+// parallel gets t to about 2^-52 / |cos| + 2^-24 relative (float's own cos
+// carried 2^-24 absolute: wrong hit/miss below 6e-8, t off by 100% near
+// 1e-7; issue 10 class 4). The numerator is the origin's distance to the
+// plane to 2^-53 of |org| + |offset|, not float's 2^-24 of it.
+inline double plane_cos(const Shape& s, const Ray& ray) {
+  return (double)s.a.x * ray.dir.x + (double)s.a.y * ray.dir.y + (double)s.a.z * ray.dir.z;
 }
 
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  float denom = dot(s.a, ray.dir);
+  double denom = plane_cos(s, ray);
   if (denom == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
-  float t = (s.r0 - dot(s.a, ray.org)) / denom;
-  return accept(t, tMin, 0, 0.0f, hit);  // t may be +-Inf for tiny denom: rejected by hit.t
+  double num = (double)s.r0 -
+               ((double)s.a.x * ray.org.x + (double)s.a.y * ray.org.y + (double)s.a.z * ray.org.z);
+  // Beyond float's range t becomes +-Inf: rejected by hit.t (<= kHuge).
+  return accept((float)(num / denom), tMin, 0, 0.0f, hit);
 }
 
-// Where a cap meets the side, the two pieces overlap by `rim` = kRimRel times
-// the magnitudes in the computation (|org - base|, |base|, t, h, radii),
-// since rounding errors are relative to those: the side takes
-// y in [-rim, h + rim], a cap takes |p_perp| <= rc + rim. Without it, rounding
-// put a ray aimed at a rim outside both pieces: 10-15% of such rays passed
-// through the closed solid (tests/test_shapes.cpp, *CapRimNoCrack). Cracks
-// show at 2^-24 and vanish from 2^-23 on; 2^-20 keeps an 8x margin and stays
-// 256x below kSpawnRel, so a ray spawned off a cap does not meet the side's
-// overlap.
+// The side the ray comes from, by the same double cos as the hit: float's
+// dot(a, dir) has the wrong sign for |cos| below ~6e-8.
+void plane_normal(const Shape& s, const Ray& ray, Hit& hit) {
+  hit.front = plane_cos(s, ray) < 0;
+  hit.normal = hit.front ? s.a : -s.a;
+}
+
+// FRUSTUM (finite cylinder or cone). In the frame of the axis, with
+// v = perpendicular part of the ray point at t = tc, u = perpendicular part
+// of dir, y(t) = y0 + (t - tc) dy the axial coordinate and
+// r(y) = r0 + k y (k = (r1 - r0)/h):
+//   |v + tr u|^2 = (r0 + k y(tc + tr))^2
+// gives A tr^2 + 2 B tr + C = 0 with
+//   A = u.u - k^2 dy^2,  B = u.v - k dy rk,  C = v.v - rk^2,  rk = r0 + k y0.
+// Roots by q = -(B + sign(B) sqrt(B^2 - AC)), tr = q/A and C/q, which stays
+// exact when A -> 0 (ray parallel to a cone's side or to a cylinder's axis).
+//
+// The centre tc is the ray's point nearest the axis line, t_axis =
+// -(vw.u)/(u.u) (vw: the origin's offset from the axis). For a ray at 45 deg
+// or more from the axis (u.u >= 1/2, so |dy| <= |u|) any side hit lies
+// within max(r0, r1) of the axis, hence within max(r0, r1) / |u| of t_axis
+// along the ray and within max(r0, r1) of y(t_axis) along the axis: at tc =
+// t_axis, |v| and |y0 - y(hit)| are of the shape's size. A ray nearer the
+// axis has t_axis ill-conditioned, far out or undefined (u = 0); it is
+// clamped into the slab -rim <= y <= h + rim, where the ray runs at most
+// (h + 2 rim) / |dy| <= 1.5 (h + 2 rim) and |v| is no larger than at any
+// side hit (|v + tr u| is convex in tr). So is every ray on a flat side
+// (|k| > 1): there the two nappes of the double cone lie within 2 r / |k|
+// of each other, a ray crosses both close together, and B^2 - AC cancels
+// unless y0 stays within the slab, where rk = r0 + k y0 is of the size of
+// the radii. Either way A, B, C have the size of the shape, whatever the ray's distance and
+// wherever it crosses the axis (the remedy Haines et al. apply to spheres). The point nearest the
+// base centre, used before, left |v| and y0 of the size of h on long thin frustums: for h/r =
+// 1e2..1e4, C = v.v - rk^2 lost every digit of the radius (issue 10 class 1). What remains is the
+// rounding of the ray's position relative to the base, eps |org - base|. (The slab is widened by
+// rim so that a ray that passes just outside it, within the pieces'
+// overlap, is still solved at its own nearest point, not one far along.)
+//
+// Where a piece ends, pieces overlap by `rim` = kRimRel (|org - base|_max +
+// h + max(r0, r1)): the magnitudes in the computation, so the overlap
+// follows the shape's size and the ray's distance, not where the shape
+// stands in the world (|base| in it made a unit cylinder at 1e5 10% fatter
+// at its caps; issue 10 class 3). Without it, rounding put a ray aimed at a
+// rim outside both pieces: 10-15% of such rays passed through the closed
+// solid (tests/test_shapes.cpp, *CapRimNoCrack). Cracks show at 2^-24 and
+// vanish from 2^-23 on; 2^-20 keeps an 8x margin and stays 16x inside the
+// band of the tests (2^-16 of the shape's size plus the ray's distance).
+// The side's end is tested where it is well conditioned: along the axis
+// (y in [-rim, h + rim]) and, for a flat side (|k| > 1, kFrustumFlat), also
+// radially (|v + tr u| in [min r - rim, max r + rim]): a flat side is
+// crossed at y known to eps |org - base| but at a radius known only to
+// |k| times that, so a rim slack along the axis overhung a flat ring's rim
+// radially by |k| rim (rays through its hole hit the side; class 2).
+// Caps take |p_perp| <= rc + rim.
 constexpr float kRimRel = 1.0f / 1048576;
 
-// Finite cylinder / cone frustum. In the frame of the axis, with
-// v = perpendicular part of (org - base), u = perpendicular part of dir,
-// y(t) = y0 + t dy the axial coordinate and r(y) = r0 + k y (k = (r1-r0)/h):
-//   |v + t u|^2 = (r0 + k y(t))^2
-// gives A t^2 + 2 B t + C = 0 with
-//   A = u.u - k^2 dy^2,  B = u.v - k dy rk,  C = v.v - rk^2,  rk = r0 + k y0.
-// Roots by q = -(B + sign(B) sqrt(B^2 - AC)), t = q/A and C/q, which stays
-// exact when A -> 0 (ray parallel to a cone's side or to a cylinder's axis).
-// The quadratic is solved from the ray's point nearest the base centre,
-// t = tc (roots tr, t = tc + tr): its coefficients then have the size of the
-// shape, not of the distance to it, so B^2 - AC keeps its digits (the
-// remedy Haines et al. apply to spheres). Solved from the ray's origin, a
-// cylinder of radius 1 at 1e6 units, or of radius 1e-4 at 1 unit, lost all
-// of them (tests/test_shapes.cpp, Cylinder.FarAwayAndTiny).
 // Pieces of a frustum, in Hit::piece; Hit::local is the root tr (t = tc + tr).
 enum : u8 { kPieceSide, kPieceBase, kPieceTop };
 
 // The ray in the axis frame, shared by hit_frustum() and frustum_normal() so
 // that the normal is computed from the very values the hit was.
 struct FrustumFrame {
-  Vec3 oc0, v, u;
-  float tc, y0, dy, k;
+  Vec3 v, u;
+  float tc, y0, dy, k, uu, rim;
 };
 
-inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
+__attribute__((always_inline)) inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
   FrustumFrame f;
   Vec3 axis = s.b;
-  f.oc0 = ray.org - s.a;
-  f.tc = -dot(f.oc0, ray.dir);
-  Vec3 oc = f.oc0 + ray.dir * f.tc;
-  f.y0 = dot(oc, axis);
+  Vec3 w = ray.org - s.a;
+  float yw = dot(w, axis);
   f.dy = dot(ray.dir, axis);
-  f.v = oc - axis * f.y0;
+  Vec3 vw = w - axis * yw;
   f.u = ray.dir - axis * f.dy;
+  f.uu = dot(f.u, f.u);
+  f.rim = kRimRel * (max_abs_bits(w) + s.c.y);
+  float tc = -dot(vw, f.u) / f.uu;
+  if (!(f.uu >= s.c.z)) {
+    // Near the axis (|dy| > 0.7: the slab is short), or a flat side (c.z =
+    // 2, always). Written so that a NaN t_axis (u = 0) ends at the slab's
+    // lower end: rt_max(NaN, lo) is lo.
+    float ta = (-f.rim - yw) / f.dy, tb = (s.h + f.rim - yw) / f.dy;
+    tc = rt_min(rt_max(tc, rt_min(ta, tb)), rt_max(ta, tb));
+  }
+  f.tc = tc;
+  f.v = vw + f.u * tc;
+  f.y0 = yw + f.dy * tc;
   f.k = s.c.x;
   return f;
 }
 
 bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   FrustumFrame f = frustum_frame(s, ray);
-  Vec3 oc0 = f.oc0, v = f.v, u = f.u;
+  Vec3 v = f.v, u = f.u;
   float tc = f.tc, y0 = f.y0, dy = f.dy, k = f.k;
   float rk = s.r0 + k * y0;
-  float A = dot(u, u) - k * k * dy * dy;
+  float A = f.uu - k * k * dy * dy;
   float B = dot(u, v) - k * dy * rk;
   float C = dot(v, v) - rk * rk;
   bool found = false;
-  float scale = max_abs_bits(oc0) + s.c.y;
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
@@ -176,8 +302,14 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     for (float tr : roots) {
       float t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
-      float y = y0 + tr * dy, rim = kRimRel * (scale + abs_bits(tr));
+      float y = y0 + tr * dy, rim = f.rim;
       if (y < -rim || y > s.h + rim) continue;
+      if (s.c.z > 1) { // flat side: its ends radially
+        Vec3 pPerp = v + u * tr;
+        float rho2 = dot(pPerp, pPerp), lo = rt_min(s.r0, s.r1) - rim,
+              hi = rt_max(s.r0, s.r1) + rim;
+        if (rho2 < lo * abs_bits(lo) || rho2 > hi * hi) continue;
+      }
       found |= accept(t, tMin, kPieceSide, tr, hit);
     }
   }
@@ -189,7 +321,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
       float tr = (yc - y0) / dy, t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
       Vec3 pPerp = v + u * tr;
-      float rr = rc + kRimRel * (scale + abs_bits(tr));
+      float rr = rc + f.rim;
       if (dot(pPerp, pPerp) > rr * rr) continue;
       found |= accept(t, tMin, cap ? kPieceTop : kPieceBase, tr, hit);
     }
@@ -197,6 +329,13 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return found;
 }
 
+// Outward normal of the side: the gradient of |p_perp|^2 - r(y)^2 on the
+// surface, p_perp - k r(y) axis, with r(y) taken as |p_perp| (equal there):
+// it then depends on the azimuth alone, also next to a cone's apex where
+// r(y) = r0 + k y is a difference of rounded numbers that may even come out
+// negative (the mirror nappe, whose normal points the other way). At the
+// apex itself p_perp = 0 and the surface has no normal: the fallback is the
+// axis (the apex's end).
 void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 axis = s.b;
   if (hit.piece != kPieceSide) {
@@ -204,12 +343,8 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
     return;
   }
   FrustumFrame f = frustum_frame(s, ray);
-  float tr = hit.local, y = f.y0 + tr * f.dy;
-  // Outward normal: gradient of |p_perp|^2 - r(y)^2, i.e. p_perp - k r(y) axis.
-  // At a cone's apex p_perp = 0 and r = 0: the gradient vanishes, so the
-  // fallback is the axis direction (the apex's cap side).
-  Vec3 pPerp = f.v + f.u * tr;
-  face(normalize(pPerp - axis * (f.k * (s.r0 + f.k * y)), axis), ray, hit);
+  Vec3 pPerp = f.v + f.u * hit.local;
+  face(normalize(pPerp - axis * (f.k * length(pPerp)), axis), ray, hit);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -262,19 +397,33 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   case kSphere: return hit_sphere(s, ray, tMin, hit);
   case kPlane: return hit_plane(s, ray, tMin, hit);
   case kCylinder:
-  case kCone: return hit_frustum(s, ray, tMin, hit);
-  case kTriangle: return hit_triangle(s, ray, tMin, hit);
+  case kCone:
+    return hit_frustum(s, ray, tMin, hit);
+  case kTriangle:
+    return hit_triangle(s, ray, tMin, hit);
+  case kEmpty:
+    return false;
   }
   return false;
 }
 
 void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
   switch (s.kind) {
-  case kSphere: sphere_normal(s, ray, hit); return;
-  case kPlane: face(s.a, ray, hit); return;
+  case kSphere:
+    sphere_normal(s, ray, hit);
+    return;
+  case kPlane:
+    plane_normal(s, ray, hit);
+    return;
   case kCylinder:
-  case kCone: frustum_normal(s, ray, hit); return;
-  case kTriangle: face(normalize(s.n), ray, hit); return;
+  case kCone:
+    frustum_normal(s, ray, hit);
+    return;
+  case kTriangle:
+    face(normalize(s.n), ray, hit);
+    return;
+  case kEmpty:
+    return;
   }
 }
 
@@ -307,6 +456,10 @@ void shape_bound(const Shape& s, Vec3& centre, float& radius) {
     radius = rt_max(length(s.a - centre), rt_max(length(s.b - centre), length(s.c - centre)));
     break;
   }
+  case kEmpty:
+    centre = v3(0.0f);
+    radius = -1; // contains no point; scene_add leaves its bound out
+    return;
   }
   radius += kBoundPad * (radius + max_abs(centre));
 }

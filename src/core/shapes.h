@@ -1,16 +1,52 @@
 // shapes.h - the closed set of shapes rt64k's scenes use, as tagged structs.
 //
-// THE INTERSECTION CONTRACT (every shape, no exceptions):
-//   * ray.dir has unit length; ray.org is finite.
+// THE INTERSECTION CONTRACT. eps = 2^-24 (float's unit roundoff). For a
+// shape, R = its size (Shape::size: the radius of its bounding ball; 0 for a
+// plane) and, for a ray, D = the distance from its origin to the shape (to
+// the centre of that ball; to the plane's point r0 a for a plane). The
+// world's magnitude (where the shape stands) enters none of the bounds.
+//
+// Builders (make_*) accept a shape only inside the domain below; anything
+// else (zero or negative radius or height, zero axis or normal, collinear
+// triangle vertices, NaN or Inf, out of range) gives a shape of kind kEmpty
+// that every ray misses: no degenerate shape is ever hit with a NaN or an
+// invented normal.
+//   * every coordinate |x| <= kMaxCoord; sizes (sphere radius, frustum
+//     height and larger radius) in [kMinSize, kMaxCoord];
+//   * frustum: radii >= 0, not both 0, height / larger radius in
+//     [kMinAspect, kMaxAspect]; a cap of radius 0 is dropped (no area);
+//   * triangle: vertices not collinear (cross(b - a, c - a), computed in
+//     double, nonzero and within float's normal range).
+// Then squares and products of every quantity stay far inside float range.
+//
+// For every ray with finite origin and unit direction (to float precision):
 //   * intersect() reports the nearest hit with  tMin < t < hit.t  (hit.t holds
 //     the current nearest distance on entry, kHuge for "none yet"), and then
 //     overwrites hit.t, hit.normal and hit.front (and piece, local); otherwise
 //     it leaves hit alone.
-//   * hit.normal is unit length and faces the incoming ray: dot(normal, dir) <= 0.
-//   * hit.front is true when the ray arrives from outside the solid (or from
-//     the side the plane/triangle normal points to).
-//   * Nothing here returns NaN or Inf: degenerate rays (parallel to a plane,
-//     along a cylinder's axis, through a cone's apex) either miss or hit finitely.
+//   * hit.t and hit.normal are finite, hit.normal has unit length and faces
+//     the incoming ray: dot(normal, dir) <= 0; hit.front is true when the ray
+//     arrives from outside the solid (or from the side the plane/triangle
+//     normal points to). Also for NaN/Inf rays: no NaN or Inf comes out.
+// Accuracy, for rays with D <= kMaxCoord, against the exact answer for the
+// stored shape and the float ray (tests/test_shapes_hard.cpp, a long double
+// oracle; tests/test_shapes.cpp):
+//   * THE BAND: a ray whose exact answer (hit or miss, piece, side) changes
+//     when its origin moves by 2^-16 (R + D), or that crosses a piece within
+//     2^-16 (R + D) / |cos| of the piece's boundary (a rim, a side's end, a
+//     cone's apex, a triangle's edge), or is tangent within that. Float
+//     rounding of the ray's position relative to the shape alone is
+//     eps (R + D); inside the band the answer is rounding's to pick.
+//   * Outside the band: hit/miss, the piece (frustum side or cap) and
+//     hit.front are exact; |t - t_exact| <= 64 eps (R + D) / |cos|, cos the
+//     incidence at the exact hit (the crossing's condition number); the
+//     normal is within 64 eps (1 + (R + D) / rho) rad, rho the radius of
+//     curvature at the hit (frustum side: its radius there; sphere: R;
+//     plane, triangle, caps: no such term).
+//   * Plane: no band (t is continuous in the origin); hit/miss and hit.front
+//     exact for |cos| >= 2^-48; |t - t_exact| <= |t_exact| (2^-23 + 2^-48 /
+//     |cos|): the plane is solved in double (2^-23: float's rounding of t).
+//   * A cone's apex has no normal: a hit exactly there gets the axis.
 // Rays spawned from a hit point must start at spawn_origin() so that they do
 // not find the surface they leave (self-intersection, "shadow acne").
 //
@@ -37,7 +73,18 @@ struct Hit {
   float local;  // intersect_t(): the shape's own parameter of the hit, for hit_normal()
 };
 
-enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle };
+enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle, kEmpty };
+
+// The builders' domain (THE INTERSECTION CONTRACT above). 2^32 keeps every
+// square and product of the solvers (|org - anchor|^2, r^2, k^2 dy^2 rk^2)
+// between 2^-90 and 2^100, far from float's limits (2^-126, 2^128); a
+// frustum's slope k = (r1 - r0) / h then stays within 2^20.
+constexpr float kMaxCoord = 4294967296.0f;       // 2^32
+constexpr float kMinSize = 1.0f / 4294967296.0f; // 2^-32
+constexpr float kMinAspect = 1.0f / 1048576;     // height / larger radius >= 2^-20
+constexpr float kMaxAspect = 1048576.0f;         // height / larger radius <= 2^20
+constexpr float kFloatMin = 1.17549435e-38f;     // smallest normal float, 2^-126
+constexpr float kFloatMax = 3.40282347e+38f;
 
 // Cap flags for cylinders and cones.
 enum : u8 { kCapBase = 1, kCapTop = 2 };
@@ -50,11 +97,18 @@ enum : u8 { kCapBase = 1, kCapTop = 2 };
 //              (cylinder: r1 = r0; full cone: r1 = 0, the apex), h = height,
 //              caps = which discs are closed. Radius varies linearly along the axis.
 //              make_cone() also stores constants of the solver: c.x = slope
-//              (r1 - r0) / h, c.y = max_abs(a) + h + r0 + r1 (the shape's
-//              magnitude, in its rim tolerance).
+//              k = (r1 - r0) / h, c.y = h + max(r0, r1) (the shape's size in
+//              its rim tolerance), c.z = 2 when |k| > 1 (a flat side: the
+//              solve is always centred within the slab and the side's ends
+//              are tested radially), else 0.5 (the least u.u of a ray that
+//              is solved from its point nearest the axis; shapes.cpp).
 //   kTriangle: a, b, c = vertices; front side is where cross(b-a, c-a) points.
 //              make_triangle() also stores n = cross(b-a, c-a) and
-//              sideMargin = kSideRel * max_abs(b-a) * max_abs(c-a) (below).
+//              sideMargin = kSideRel * max_abs(b-a) * max_abs(c-a) (below),
+//              both times the power of two that puts max_abs(n) in [1, 2).
+//   kEmpty:    no fields; no ray hits it.
+// size (every kind): R of the contract, the radius of the shape's bounding
+// ball (0 for a plane); it scales the spawn offset.
 struct Shape {
   ShapeKind kind;
   u8 caps;
@@ -62,6 +116,7 @@ struct Shape {
   float r0, r1, h;
   Vec3 n;
   float sideMargin;
+  float size;
 };
 
 // A triangle is skipped before the watertight test when the ray starts on
@@ -94,16 +149,27 @@ void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
 void shape_bound(const Shape& s, Vec3& centre, float& radius);
 constexpr float kBoundPad = 1.0f / 1024;
 
-// Offset of a spawned ray's origin from the surface along the normal, scaled
-// by the magnitude of the hit point: float's relative rounding error is 2^-24
-// per operation; the quadratic solvers accumulate a few hundred ulps at worst
-// (grazing hits on cones, measured by the property tests), so 2^-12 relative
-// plus an absolute floor for points near the origin keeps every spawned ray
-// off its own surface with margin. At the scenes' scale (|p| < 30) the offset
-// is below 0.008, far under a pixel's footprint.
-constexpr float kSpawnRel = 1.0f / 4096;
-constexpr float kSpawnAbs = 1.0f / 4096;
-inline float spawn_offset(Vec3 p) { return kSpawnAbs + kSpawnRel * max_abs(p); }
+// Offset of a spawned ray's origin from the surface along the normal. The
+// hit point p = org + dir t, as the tracer computes it, is off the surface
+// by (a) its rounding to float coordinates, at most eps sqrt(3) max_abs(p),
+// which the offset's own addition repeats, and (b) the solver's error, at
+// most 2^-18 (R + t) along the normal over the tests' rays, band included
+// (tests/test_shapes_hard.cpp measures it against this offset). So the
+// offset is kSpawnPos max_abs(p) (8 eps: 2.3x the 2 sqrt(3) eps of (a)) plus
+// kSpawnRel (R + t), `scale` = R + t (spawn_scale()): relative to what the
+// error scales with, the shape's size and the ray's length, and to the
+// world's magnitude only through the rounding of p itself. At the scenes'
+// scale (max_abs(p) < 30, R + t < 40) it is below 6e-4; glass of radius 1
+// at 1e5 from the origin gets 0.05 (the old 2^-12 max_abs(p) gave 24, more
+// than the radius: refraction rays started outside the solid, issue 10
+// class 5).
+constexpr float kSpawnPos = 1.0f / 2097152; // 2^-21 = 8 eps
+constexpr float kSpawnRel = 1.0f / 65536;   // 2^-16
+inline float spawn_offset(Vec3 p, float scale) {
+  return kSpawnPos * max_abs(p) + kSpawnRel * scale;
+}
+// The scale of a hit's error: the shape's size plus the ray's length to it.
+inline float spawn_scale(const Shape& s, const Hit& hit) { return s.size + hit.t; }
 
 // True when a ray leaving `hit` (a hit on s, normal facing the incoming ray)
 // in direction dir cannot meet s again (LEAVING FOR GOOD above). The outward
@@ -115,8 +181,9 @@ inline bool leaves_for_good(const Shape& s, const Hit& hit, Vec3 dir) {
 }
 
 // Origin for a ray leaving hit point p (with ray-facing unit normal n) in
-// direction dir: pushed to the side of the surface that dir goes to.
-inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir) {
-  float off = spawn_offset(p);
+// direction dir: pushed to the side of the surface that dir goes to. scale:
+// spawn_scale() of the hit.
+inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir, float scale) {
+  float off = spawn_offset(p, scale);
   return p + n * (dot(dir, n) >= 0 ? off : -off);
 }

@@ -598,16 +598,16 @@ TEST(Sphere, RaySpawnedFromHitDoesNotRehit) {
     Cast c = cast(s, o, d);
     if (!c.hit) continue;
     Vec3 p = at(o, d, c.h.t), n = c.h.normal;
-    float sc = spawn_scale(s, c.h);
+    float off = spawn_offset(p, spawn_scale(s, c.h));
     Vec3 out = fdir(rand_hemi(g, dv(n), 0.01)), in = fdir(rand_hemi(g, -dv(n), 0.05));
-    EXPECT_FALSE(cast(s, spawn_origin(p, n, out, sc), out).hit) << "reflected ray re-hit, i=" << i;
-    Vec3 o2 = spawn_origin(p, n, in, sc);
+    EXPECT_FALSE(cast(s, spawn_origin(p, n, out, off), out).hit) << "reflected ray re-hit, i=" << i;
+    Vec3 o2 = spawn_origin(p, n, in, off);
     Cast far = cast(s, o2, in);
     ASSERT_TRUE(far.hit) << "refracted ray found no far side, i=" << i;
     // The far side: the chord 2 r cos from p, shortened by the offset's share
     // along the ray; exactly, the double reference from the spawned origin.
     double cosIn = dot(dv(in), -dv(n)), chord = 2 * 1.5 * cosIn;
-    EXPECT_GT(far.h.t, chord - 2 * spawn_offset(p, sc) / cosIn) << i;
+    EXPECT_GT(far.h.t, chord - 2 * off / cosIn) << i;
     Ref r = ref_intersect(s, dv(o2), dv(in));
     EXPECT_NEAR(far.h.t, r.t, 1e-5 / cosIn) << i;
     EXPECT_FALSE(far.h.front);
@@ -747,7 +747,7 @@ TEST(Plane, SpawnedRayDoesNotRehit) {
     Vec3 p = at(o, d, c.h.t);
     for (double side : {1.0, -1.0}) {
       Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 0.001));
-      EXPECT_FALSE(cast(s, spawn_origin(p, c.h.normal, d2, spawn_scale(s, c.h)), d2).hit) << i;
+      EXPECT_FALSE(cast(s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(s, c.h))), d2).hit) << i;
     }
     ++n;
   }
@@ -1354,7 +1354,7 @@ TEST(Triangle, SpawnedRayDoesNotRehit) {
     Vec3 p = at(o, d, c.h.t);
     for (double side : {1.0, -1.0}) {
       Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 0.001));
-      EXPECT_FALSE(cast(smp.s, spawn_origin(p, c.h.normal, d2, spawn_scale(smp.s, c.h)), d2).hit)
+      EXPECT_FALSE(cast(smp.s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(smp.s, c.h))), d2).hit)
           << i;
     }
     ++n;
@@ -1490,7 +1490,7 @@ int check_spawn(const Sample& smp, Vec3 p, float scale, Vec3 n, bool front, Vec3
   float off = offsetScale * spawn_offset(p, scale);
   Vec3 o2 = p + n * (dot(d2, n) >= 0 ? off : -off);
   if (offsetScale == 1.0f) { // the shipped function itself
-    Vec3 o1 = spawn_origin(p, n, d2, scale);
+    Vec3 o1 = spawn_origin(p, n, d2, spawn_offset(p, scale));
     EXPECT_TRUE(o1.x == o2.x && o1.y == o2.y && o1.z == o2.z);
   }
   Cast c = cast(s, o2, d2);

@@ -45,6 +45,7 @@ Shape make_plane(Vec3 normal, float offset) {
   if (!unit_dir(normal, n) || !(rt_abs(offset) <= kMaxCoord)) return s;
   s.kind = kPlane;
   s.a = n;
+  s.b = n * offset;
   s.r0 = offset;
   return s;
 }
@@ -159,46 +160,67 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return accept(t, tMin, 0, 0.0f, hit);
 }
 
-// The normal from the same stable quantities: the hit point relative to the
-// centre is f + t d = perp + (t + b) d, and t + b = -+sqrt(disc) for the near
-// and far root, so m = perp -+ sqrt(disc) d with |m|^2 = |perp|^2 + disc = r^2
-// up to rounding: m has the sphere's size whatever the distance, never
-// cancels to zero, and no hit point rounded to world coordinates enters.
-// (p - centre, as before, lost the normal when r fell below the float
-// spacing of p: zero-length or invented normals, issue 10 class 6.)
+// The normal from the hit point relative to the centre, m = (org - centre)
+// + t dir: it has the sphere's size and carries eps (|org - centre| + t) of
+// rounding, not the float spacing of the hit point's world coordinates
+// (p - centre, as before, lost the normal when r fell below it: zero-length
+// or invented normals, issue 10 class 6). |m| = r up to that rounding; where
+// it comes out shorter than r / 2 (r below eps times the ray's distance,
+// hits that are all in the band), m is rebuilt from Haines's stable terms:
+// f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
+// root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
+// zero, so the normal is always the sphere's own.
 void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 f = ray.org - s.a;
-  float b = dot(f, ray.dir);
-  Vec3 perp = f - ray.dir * b;
-  float root = rt_sqrt(rt_max(s.r0 * s.r0 - dot(perp, perp), 0.0f));
-  Vec3 m = perp + ray.dir * (hit.t < -b ? -root : root);
-  face(normalize(m * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
+  Vec3 m = f + ray.dir * hit.t;
+  float len2 = dot(m, m), r2 = s.r0 * s.r0;
+  if (!(len2 >= 0.25f * r2)) {
+    float b = dot(f, ray.dir);
+    Vec3 perp = f - ray.dir * b;
+    float root = rt_sqrt(rt_max(r2 - dot(perp, perp), 0.0f));
+    m = perp + ray.dir * (hit.t < -b ? -root : root);
+    len2 = dot(m, m);
+  }
+  face(m * (1.0f / rt_sqrt(len2)), ray, hit);
 }
 
-// Plane in double: the products of the float normal and ray are exact in
-// double and the sums round at 2^-53, so cos = dot(a, dir) is known to
-// ~2^-52 and its sign is right for |cos| >= 2^-50: a ray within 1e-9 of
-// parallel gets t to about 2^-52 / |cos| + 2^-24 relative (float's own cos
-// carried 2^-24 absolute: wrong hit/miss below 6e-8, t off by 100% near
-// 1e-7; issue 10 class 4). The numerator is the origin's distance to the
-// plane to 2^-53 of |org| + |offset|, not float's 2^-24 of it.
+// Plane {p : a.(p - b) = 0}, b its point offset * a. The numerator is the
+// origin's distance to the plane from q = b - org: rounding eps |q|, the
+// ray's distance, not |org| or |offset| (r0 - a.org carried eps of both).
+// cos = a.dir: in float, its rounding (< 3 eps) is at most 2^-20 of it for
+// |cos| >= kPlaneCosFloat = 2^-12, well inside t's own condition (a
+// direction rounded by eps moves t by eps / |cos| relative). Nearer
+// parallel, cos in double: the products of floats are exact and the sums
+// round at 2^-53, so the sign is right for |cos| >= 2^-50 and t good to
+// ~2^-52 / |cos| relative (float's cos had the wrong sign below 6e-8 and t
+// off by 100% near 1e-7; issue 10 class 4). Such rays, within 0.014 deg of
+// the plane, meet it at t > 4096 times their distance: rare in a frame.
+constexpr float kPlaneCosFloat = 1.0f / 4096;
+
 inline double plane_cos(const Shape& s, const Ray& ray) {
   return (double)s.a.x * ray.dir.x + (double)s.a.y * ray.dir.y + (double)s.a.z * ray.dir.z;
 }
 
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  double denom = plane_cos(s, ray);
-  if (denom == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
-  double num = (double)s.r0 -
-               ((double)s.a.x * ray.org.x + (double)s.a.y * ray.org.y + (double)s.a.z * ray.org.z);
-  // Beyond float's range t becomes +-Inf: rejected by hit.t (<= kHuge).
-  return accept((float)(num / denom), tMin, 0, 0.0f, hit);
+  float c = dot(s.a, ray.dir), t;
+  if (abs_bits(c) >= kPlaneCosFloat) {
+    t = dot(s.a, s.b - ray.org) / c;
+  } else {
+    double cd = plane_cos(s, ray);
+    if (cd == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
+    double num = (double)s.a.x * ((double)s.b.x - ray.org.x) +
+                 (double)s.a.y * ((double)s.b.y - ray.org.y) +
+                 (double)s.a.z * ((double)s.b.z - ray.org.z);
+    t = (float)(num / cd);  // beyond float's range +-Inf: rejected by hit.t (<= kHuge)
+  }
+  return accept(t, tMin, 0, 0.0f, hit);
 }
 
-// The side the ray comes from, by the same double cos as the hit: float's
-// dot(a, dir) has the wrong sign for |cos| below ~6e-8.
+// The side the ray comes from, by the same cos as the hit (float's cos
+// alone has the wrong sign for |cos| below ~6e-8).
 void plane_normal(const Shape& s, const Ray& ray, Hit& hit) {
-  hit.front = plane_cos(s, ray) < 0;
+  float c = dot(s.a, ray.dir);
+  hit.front = abs_bits(c) >= kPlaneCosFloat ? c < 0 : plane_cos(s, ray) < 0;
   hit.normal = hit.front ? s.a : -s.a;
 }
 
@@ -251,11 +273,10 @@ void plane_normal(const Shape& s, const Ray& ray, Hit& hit) {
 // Caps take |p_perp| <= rc + rim.
 constexpr float kRimRel = 1.0f / 1048576;
 
-// Pieces of a frustum, in Hit::piece; Hit::local is the root tr (t = tc + tr).
+// Pieces of a frustum, in Hit::piece.
 enum : u8 { kPieceSide, kPieceBase, kPieceTop };
 
-// The ray in the axis frame, shared by hit_frustum() and frustum_normal() so
-// that the normal is computed from the very values the hit was.
+// The ray in the axis frame (above).
 struct FrustumFrame {
   Vec3 v, u;
   float tc, y0, dy, k, uu, rim;
@@ -333,18 +354,20 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 // surface, p_perp - k r(y) axis, with r(y) taken as |p_perp| (equal there):
 // it then depends on the azimuth alone, also next to a cone's apex where
 // r(y) = r0 + k y is a difference of rounded numbers that may even come out
-// negative (the mirror nappe, whose normal points the other way). At the
-// apex itself p_perp = 0 and the surface has no normal: the fallback is the
-// axis (the apex's end).
+// negative (the mirror nappe, whose normal points the other way). p_perp is
+// the perpendicular part of the hit point relative to the base, (org - base)
+// + t dir: rounding eps (|org - base| + t), as the solve's own. At the apex
+// itself p_perp = 0 and the surface has no normal: the fallback is the axis
+// (the apex's end).
 void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 axis = s.b;
   if (hit.piece != kPieceSide) {
     face(hit.piece == kPieceTop ? axis : -axis, ray, hit);
     return;
   }
-  FrustumFrame f = frustum_frame(s, ray);
-  Vec3 pPerp = f.v + f.u * hit.local;
-  face(normalize(pPerp - axis * (f.k * length(pPerp)), axis), ray, hit);
+  Vec3 q = ray.org - s.a + ray.dir * hit.t;
+  Vec3 pPerp = q - axis * dot(q, axis);
+  face(normalize(pPerp - axis * (s.c.x * length(pPerp)), axis), ray, hit);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle

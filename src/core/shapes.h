@@ -91,7 +91,8 @@ enum : u8 { kCapBase = 1, kCapTop = 2 };
 
 // One shape. Field meaning by kind:
 //   kSphere:   a = centre, r0 = radius.
-//   kPlane:    a = unit normal, r0 = offset: the plane is {p : dot(a, p) = r0}.
+//   kPlane:    a = unit normal, r0 = offset, b = r0 a (rounded): the plane is
+//              {p : dot(a, p - b) = 0}, through b.
 //   kCylinder, kCone ("frustum"): a = centre of the base disc, b = unit axis
 //              from base towards top, r0 = base radius, r1 = top radius
 //              (cylinder: r1 = r0; full cone: r1 = 0, the apex), h = height,
@@ -181,9 +182,8 @@ inline bool leaves_for_good(const Shape& s, const Hit& hit, Vec3 dir) {
 }
 
 // Origin for a ray leaving hit point p (with ray-facing unit normal n) in
-// direction dir: pushed to the side of the surface that dir goes to. scale:
-// spawn_scale() of the hit.
-inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir, float scale) {
-  float off = spawn_offset(p, scale);
-  return p + n * (dot(dir, n) >= 0 ? off : -off);
+// direction dir: pushed by `offset` (spawn_offset() of the hit, computed
+// once per hit) to the side of the surface that dir goes to.
+inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir, float offset) {
+  return p + n * (dot(dir, n) >= 0 ? offset : -offset);
 }

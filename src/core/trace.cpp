@@ -144,8 +144,8 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
   Vec3 N = hit.normal, V = -ray.dir;
   Vec3 p = ray.org + ray.dir * hit.t;
   Vec3 color = s.ambient * m.color;
-  float errScale = spawn_scale(obj.shape, hit);
-  Vec3 lightOrg = spawn_origin(p, N, N, errScale);
+  float off = spawn_offset(p, spawn_scale(obj.shape, hit));
+  Vec3 lightOrg = spawn_origin(p, N, N, off);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
     Vec3 toLight = light.pos - lightOrg;
@@ -180,7 +180,7 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
   if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
     Vec3 R = reflect(ray.dir, N);
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, R, errScale), R}, depth + 1, weight * m.reflect,
+    color += trace(ctx, Ray{spawn_origin(p, N, R, off), R}, depth + 1, weight * m.reflect,
                    leaves_for_good(obj.shape, hit, R) ? self : 0) *
              m.reflect;
   }
@@ -196,7 +196,7 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, T, errScale), T}, depth + 1, weight * m.transmit,
+    color += trace(ctx, Ray{spawn_origin(p, N, T, off), T}, depth + 1, weight * m.transmit,
                    leaves_for_good(obj.shape, hit, T) ? self : 0) *
              m.transmit;
   }

@@ -9,8 +9,8 @@ bool finite3(Vec3 v) { return rt_finite(v.x) && rt_finite(v.y) && rt_finite(v.z)
 // nor huge lengths under- or overflow; false when a is zero, denormal (its
 // reciprocal would overflow) or not finite: no direction to take.
 bool unit_dir(Vec3 a, Vec3& out) {
-  float m = max_abs(a);
-  if (!(m >= kFloatMin && m <= kFloatMax)) return false;
+  float m = max_abs(a); // rt_max drops a NaN: finite3() catches it
+  if (!finite3(a) || !(m >= kFloatMin)) return false;
   a = a * (1.0f / m); // max_abs(a) = 1 (within rounding): |a|^2 in [1, 3]
   out = a * (1.0f / rt_sqrt(dot(a, a)));
   return true;
@@ -166,7 +166,8 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 // (p - centre, as before, lost the normal when r fell below it: zero-length
 // or invented normals, issue 10 class 6). |m| = r up to that rounding; where
 // it comes out shorter than r / 2 (r below eps times the ray's distance,
-// hits that are all in the band), m is rebuilt from Haines's stable terms:
+// hits that are all in the band) or longer than 2 r (a ray from beyond the
+// domain, where |m|^2 may overflow), m is rebuilt from Haines's stable terms:
 // f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
 // root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
 // zero, so the normal is always the sphere's own.
@@ -174,7 +175,7 @@ void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 f = ray.org - s.a;
   Vec3 m = f + ray.dir * hit.t;
   float len2 = dot(m, m), r2 = s.r0 * s.r0;
-  if (!(len2 >= 0.25f * r2)) {
+  if (!(len2 >= 0.25f * r2 && len2 <= 4.0f * r2)) { // also a ray from beyond the domain
     float b = dot(f, ray.dir);
     Vec3 perp = f - ray.dir * b;
     float root = rt_sqrt(rt_max(r2 - dot(perp, perp), 0.0f));
@@ -351,13 +352,15 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 }
 
 // Outward normal of the side: the gradient of |p_perp|^2 - r(y)^2 on the
-// surface, p_perp - k r(y) axis, with r(y) taken as |p_perp| (equal there):
-// it then depends on the azimuth alone, also next to a cone's apex where
-// r(y) = r0 + k y is a difference of rounded numbers that may even come out
-// negative (the mirror nappe, whose normal points the other way). p_perp is
-// the perpendicular part of the hit point relative to the base, (org - base)
-// + t dir: rounding eps (|org - base| + t), as the solve's own. At the apex
-// itself p_perp = 0 and the surface has no normal: the fallback is the axis
+// surface, p_perp - k r(y) axis, with r(y) taken as |p_perp| (equal there),
+// i.e. the direction of u - k axis, u the unit radial direction: it depends
+// on the azimuth alone, also next to a cone's apex where r(y) = r0 + k y is
+// a difference of rounded numbers that may even come out negative (the
+// mirror nappe, whose normal points the other way), and |u - k axis| is in
+// [1, 2^20] whatever the size. p_perp is the perpendicular part of the hit
+// point relative to the base, (org - base) + t dir: rounding eps
+// (|org - base| + t), as the solve's own. At the apex itself p_perp = 0 and
+// the surface has no normal: u falls back to 0 and the normal to the axis
 // (the apex's end).
 void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 axis = s.b;
@@ -367,7 +370,7 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   }
   Vec3 q = ray.org - s.a + ray.dir * hit.t;
   Vec3 pPerp = q - axis * dot(q, axis);
-  face(normalize(pPerp - axis * (s.c.x * length(pPerp)), axis), ray, hit);
+  face(normalize(normalize(pPerp, v3(0.0f)) - axis * s.c.x, axis), ray, hit);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle

@@ -256,6 +256,8 @@ Ref ref_intersect(const Shape& s, D3 o, D3 d, double tMin = 0) {
     consider(r, dot(e2, qv) / det, tMin, unit(cross(e1, e2)), 0, d);
     break;
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
   return r;
 }
@@ -315,6 +317,8 @@ double surface_distance(const Shape& s, D3 p) {
     if (s0 >= 0 && s1 >= 0 && s2 >= 0) return std::fabs(h);
     return std::min({seg_dist3d(p, A, B), seg_dist3d(p, B, C), seg_dist3d(p, C, A)});
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
   return 0;
 }
@@ -343,6 +347,8 @@ double carrier_distance(const Shape& s, D3 p) {
     D3 A = dv(s.a), n = unit(cross(dv(s.b) - A, dv(s.c) - A));
     return std::fabs(dot(p - A, n));
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
   return 0;
 }
@@ -510,6 +516,8 @@ void random_surface_point(const Sample& smp, Rng& g, D3& p, D3& n) {
     n = unit(cross(B - A, C - A));
     return;
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
 }
 

@@ -202,10 +202,15 @@ inline double plane_cos(const Shape& s, const Ray& ray) {
   return (double)s.a.x * ray.dir.x + (double)s.a.y * ray.dir.y + (double)s.a.z * ray.dir.z;
 }
 
+// Hit::piece records the side the ray comes from (1: against the normal,
+// the front), decided by the same cos as t: float's cos alone has the wrong
+// sign for |cos| below ~6e-8.
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float c = dot(s.a, ray.dir), t;
+  bool front;
   if (abs_bits(c) >= kPlaneCosFloat) {
     t = dot(s.a, s.b - ray.org) / c;
+    front = c < 0;
   } else {
     double cd = plane_cos(s, ray);
     if (cd == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
@@ -213,15 +218,13 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
                  (double)s.a.y * ((double)s.b.y - ray.org.y) +
                  (double)s.a.z * ((double)s.b.z - ray.org.z);
     t = (float)(num / cd);  // beyond float's range +-Inf: rejected by hit.t (<= kHuge)
+    front = cd < 0;
   }
-  return accept(t, tMin, 0, 0.0f, hit);
+  return accept(t, tMin, front ? 1 : 0, 0.0f, hit);
 }
 
-// The side the ray comes from, by the same cos as the hit (float's cos
-// alone has the wrong sign for |cos| below ~6e-8).
-void plane_normal(const Shape& s, const Ray& ray, Hit& hit) {
-  float c = dot(s.a, ray.dir);
-  hit.front = abs_bits(c) >= kPlaneCosFloat ? c < 0 : plane_cos(s, ray) < 0;
+void plane_normal(const Shape& s, Hit& hit) {
+  hit.front = hit.piece != 0;
   hit.normal = hit.front ? s.a : -s.a;
 }
 
@@ -353,15 +356,15 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 
 // Outward normal of the side: the gradient of |p_perp|^2 - r(y)^2 on the
 // surface, p_perp - k r(y) axis, with r(y) taken as |p_perp| (equal there),
-// i.e. the direction of u - k axis, u the unit radial direction: it depends
-// on the azimuth alone, also next to a cone's apex where r(y) = r0 + k y is
-// a difference of rounded numbers that may even come out negative (the
-// mirror nappe, whose normal points the other way), and |u - k axis| is in
-// [1, 2^20] whatever the size. p_perp is the perpendicular part of the hit
+// i.e. the direction of p_perp - k |p_perp| axis: it depends on the azimuth
+// alone, also next to a cone's apex where r(y) = r0 + k y is a difference of
+// rounded numbers that may even come out negative (the mirror nappe, whose
+// normal points the other way). p_perp is the perpendicular part of the hit
 // point relative to the base, (org - base) + t dir: rounding eps
-// (|org - base| + t), as the solve's own. At the apex itself p_perp = 0 and
-// the surface has no normal: u falls back to 0 and the normal to the axis
-// (the apex's end).
+// (|org - base| + t), as the solve's own. Within the domain |p_perp|^2 <=
+// 2^67 and the normal's square <= 2^107; a hit from beyond it is rescaled
+// first. At the apex itself p_perp = 0 and the surface has no normal: the
+// fallback is the axis (the apex's end).
 void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 axis = s.b;
   if (hit.piece != kPieceSide) {
@@ -370,7 +373,12 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   }
   Vec3 q = ray.org - s.a + ray.dir * hit.t;
   Vec3 pPerp = q - axis * dot(q, axis);
-  face(normalize(normalize(pPerp, v3(0.0f)) - axis * s.c.x, axis), ray, hit);
+  float rho2 = dot(pPerp, pPerp);
+  if (!(rho2 <= 1e20f)) {  // only from beyond the domain: keep |n|^2 from overflowing
+    pPerp = pPerp * (1.0f / max_abs(pPerp));
+    rho2 = dot(pPerp, pPerp);
+  }
+  face(normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis), ray, hit);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -435,21 +443,12 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 
 void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
   switch (s.kind) {
-  case kSphere:
-    sphere_normal(s, ray, hit);
-    return;
-  case kPlane:
-    plane_normal(s, ray, hit);
-    return;
+  case kSphere: sphere_normal(s, ray, hit); return;
+  case kPlane: plane_normal(s, hit); return;
   case kCylinder:
-  case kCone:
-    frustum_normal(s, ray, hit);
-    return;
-  case kTriangle:
-    face(normalize(s.n), ray, hit);
-    return;
-  case kEmpty:
-    return;
+  case kCone: frustum_normal(s, ray, hit); return;
+  case kTriangle: face(normalize(s.n), ray, hit); return;
+  case kEmpty: return;
   }
 }
 

@@ -69,7 +69,7 @@ struct Hit {
   float t;
   Vec3 normal;
   bool front;
-  u8 piece;     // intersect_t(): which piece of the shape (frustum: side, base, top cap)
+  u8 piece;     // intersect_t(): which piece (frustum: side, base, top cap; plane: 1 = front)
   float local;  // intersect_t(): the shape's own parameter of the hit, for hit_normal()
 };
 

@@ -440,9 +440,9 @@ void report(const char* name, const Tally& st) {
               "%.3g eps (R+D) kappa (bound %g), max normal angle = %.3g of its scale (bound %g); "
               "contract violations %ld\n",
               name, st.rays, st.hits, st.bandOfSampled, st.bandSampled,
-              st.bandSampled ? 100.0 * double(st.bandOfSampled) / double(st.bandSampled) : 0.0, st.disagree,
-              st.disagreeInBand, st.wrong(), st.wrongHit, st.wrongPiece, st.wrongFront, st.wrongT,
-              st.wrongNormal, st.maxT, kTBound, st.maxN, kNBound, st.contract);
+              st.bandSampled ? 100.0 * double(st.bandOfSampled) / double(st.bandSampled) : 0.0,
+              st.disagree, st.disagreeInBand, st.wrong(), st.wrongHit, st.wrongPiece, st.wrongFront,
+              st.wrongT, st.wrongNormal, st.maxT, kTBound, st.maxN, kNBound, st.contract);
   std::string key = name;
   for (char& ch : key)
     if (ch == ' ' || ch == ',' || ch == '/') ch = '_';
@@ -855,16 +855,20 @@ TEST(HardSpawn, Class5RefractionFromGlassFarFromTheOrigin) {
       Vec3 p = fo + fd * c.h.t, n = c.h.normal;
       float off = spawn_offset(p, spawn_scale(s, c.h));
       maxOff = std::max(maxOff, double(off / so.R));
-      // Within a few offsets of a rim no single normal moves p inside both
-      // pieces (p's own rounding, 0.5 ulp of |p|, is up to 0.004 at 1e5).
-      if (near_boundary(s, lo, ld, r, 4 * L(off))) {
+      // The exclusions below are sized by the offset the error calls for,
+      // 8 eps max_abs(p) + 2^-16 (R + t) (shapes.h), written out here so
+      // that they do not move with the code under test. Within a few of
+      // them of a rim no single normal moves p inside both pieces (p's own
+      // rounding, 0.5 ulp of |p|, is up to 0.004 at 1e5).
+      L need = L(std::ldexp(1.0, -21)) * L(max_abs(p)) + L(kBandRel) * (so.R + L(c.h.t));
+      if (near_boundary(s, lo, ld, r, 4 * need)) {
         ++edge;
         continue;
       }
-      // Thickness along -n, from 2 offsets inside p.
-      LV inner = lift<L>(p) - lift<L>(n) * (2 * L(off));
+      // Thickness along -n, from 2 of them inside p.
+      LV inner = lift<L>(p) - lift<L>(n) * (2 * need);
       Answer<L> across = oracle(s, inner, lift<L>(n) * L(-1));
-      if (!inside_solid(s, inner) || !across.hit || across.t < 2 * L(off)) {
+      if (!inside_solid(s, inner) || !across.hit || across.t < 2 * need) {
         ++thin;
         continue;
       }
@@ -962,21 +966,34 @@ TEST(HardDegenerate, Class6BuildersRejectDegenerateInput) {
                             make_triangle(o, y, v3(inf, 0, 0)),
                             make_triangle(o, y, v3(1e10f, 0, 0))};
   Rng g(2061);
-  int n = 0;
+  int n = 0, accepted = 0, boundPassed = 0;
+  long rays = 0, hits = 0, badHits = 0;
   for (const Shape& s : rejected) {
-    EXPECT_EQ(s.kind, kEmpty) << "input " << n;
+    accepted += s.kind != kEmpty;
     Vec3 c;
     float radius;
     shape_bound(s, c, radius);
-    EXPECT_LT(radius, 0.0f) << n;
+    boundPassed += !(radius < 0.0f);
     for (int i = 0; i < 1000; ++i) {
       Vec3 fo = fv(rand_ball(g, 4)), fd = fdir(rand_ball(g, 1.5) - lift<L>(fo));
       Cast hit = cast(s, fo, fd);
-      ASSERT_FALSE(hit.hit) << n;
-      ASSERT_TRUE(untouched(hit)) << n;
+      ++rays;
+      if (hit.hit) {
+        ++hits;
+        badHits += !(std::isfinite(hit.h.t) && finite3(hit.h.normal) &&
+                     std::fabs(std::sqrt(double(dot(hit.h.normal, hit.h.normal))) - 1) <= 1e-6);
+      } else if (!untouched(hit)) {
+        ++badHits;
+      }
     }
     ++n;
   }
+  std::printf("[ measured ] class 6: %d degenerate or out-of-domain inputs: %d not rejected, %d "
+              "with a bound; %ld rays at them, %ld hits (%ld with NaN, Inf or non-unit answers)\n",
+              n, accepted, boundPassed, rays, hits, badHits);
+  EXPECT_EQ(accepted, 0);
+  EXPECT_EQ(boundPassed, 0);
+  EXPECT_EQ(hits, 0);
   // An empty shape in a scene is never tested: its bound passes no ray.
   Scene sc;
   scene_clear(sc);
@@ -995,9 +1012,8 @@ TEST(HardDegenerate, Class6BuildersRejectDegenerateInput) {
     EXPECT_NE(s.kind, kEmpty);
   EXPECT_EQ(kept[5].caps, kCapBase); // the apex's cap (radius 0) is dropped
   EXPECT_EQ(make_cone(o, y, 0, 1, 2, 3).caps, kCapTop);
-  std::printf("[ measured ] class 6: %d degenerate or out-of-domain inputs rejected (never hit, "
-              "no bound), %d inputs at the domain's edges kept\n",
-              n, int(sizeof kept / sizeof kept[0]));
+  std::printf("[ measured ] class 6: %d inputs at the domain's edges kept\n",
+              int(sizeof kept / sizeof kept[0]));
 }
 
 // Shapes of every size the domain admits, 2^-28 .. 2^29, anywhere within

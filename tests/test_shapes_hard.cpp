@@ -273,6 +273,34 @@ bool near_boundary(const Shape& s, LV o, LV d, const Answer<L>& base, L eta) {
   return false;
 }
 
+// Distance from p to the carrier surface of a piece (the sphere, the plane,
+// the triangle's plane, the side's infinite cone or cylinder, a cap's plane):
+// how far a hit point computed in float lies off the surface. A grazing hit
+// may stray along the ray past a piece's end, never off its carrier.
+L carrier_distance(const Shape& s, int piece, LV p) {
+  switch (s.kind) {
+  case kSphere: return fabsl(norm(p - lift<L>(s.a)) - L(s.r0));
+  case kPlane: {
+    LV n = lift<L>(s.a);
+    return fabsl(dot(n, p - lift<L>(s.b))) / norm(n);
+  }
+  case kTriangle: {
+    LV A = lift<L>(s.a), n = cross(lift<L>(s.b) - A, lift<L>(s.c) - A);
+    return fabsl(dot(n, p - A)) / norm(n);
+  }
+  case kCylinder:
+  case kCone: {
+    LV b = unit(lift<L>(s.b)), w = p - lift<L>(s.a);
+    L y = dot(w, b), rho = norm(w - b * y);
+    if (piece == 1) return fabsl(y);
+    if (piece == 2) return fabsl(y - L(s.h));
+    L dr = L(s.r1) - L(s.r0), h = s.h;
+    return fabsl((rho - L(s.r0)) * h - y * dr) / sqrtl(dr * dr + h * h);
+  }
+  default: return 0;
+  }
+}
+
 // ------------------------------------------------------------ float side
 
 struct Cast {
@@ -325,6 +353,7 @@ struct Tally {
   long wrongHit = 0, wrongPiece = 0, wrongFront = 0, wrongT = 0, wrongNormal = 0;
   long contract = 0;         // NaN, non-unit or back-facing normal, Hit changed on a miss
   double maxT = 0, maxN = 0; // outside the band, in units of the bounds' scales
+  double maxOff = 0;         // every hit: p = org + t dir off its carrier / spawn_offset
   std::string examples;
   int noted = 0;
   long wrong() const { return wrongHit + wrongPiece + wrongFront + wrongT + wrongNormal; }
@@ -362,6 +391,11 @@ void judge(Tally& st, const Shape& s, LV centre, L R, Vec3 fo, Vec3 fd, bool sam
       ++st.contract;
       note(st, "contract broken (t, normal)", s, fo, fd, c, r);
     }
+    // The spawn offset must clear how far the hit point, as the tracer
+    // computes it, lies off the surface: band included.
+    Vec3 p = fo + fd * c.h.t;
+    double off = spawn_offset(p, spawn_scale(s, c.h));
+    st.maxOff = std::max(st.maxOff, double(carrier_distance(s, c.h.piece, lift<L>(p))) / off);
   } else if (!untouched(c)) {
     ++st.contract;
     note(st, "a miss changed the Hit", s, fo, fd, c, r);
@@ -438,11 +472,13 @@ void report(const char* name, const Tally& st) {
               "%ld disagree with the oracle, %ld of them in the band; wrong outside the band: "
               "%ld (hit/miss %ld, piece %ld, front %ld, t %ld, normal %ld); max |t - t_ref| = "
               "%.3g eps (R+D) kappa (bound %g), max normal angle = %.3g of its scale (bound %g); "
-              "contract violations %ld\n",
+              "contract violations %ld; max distance of a hit point off its surface / "
+              "spawn_offset = %.3g\n",
               name, st.rays, st.hits, st.bandOfSampled, st.bandSampled,
               st.bandSampled ? 100.0 * double(st.bandOfSampled) / double(st.bandSampled) : 0.0,
               st.disagree, st.disagreeInBand, st.wrong(), st.wrongHit, st.wrongPiece, st.wrongFront,
-              st.wrongT, st.wrongNormal, st.maxT, kTBound, st.maxN, kNBound, st.contract);
+              st.wrongT, st.wrongNormal, st.maxT, kTBound, st.maxN, kNBound, st.contract,
+              st.maxOff);
   std::string key = name;
   for (char& ch : key)
     if (ch == ' ' || ch == ',' || ch == '/') ch = '_';
@@ -461,6 +497,7 @@ void expect_clean(const char* name, const Tally& st, long minRays) {
   EXPECT_EQ(st.wrongFront, 0) << name;
   EXPECT_EQ(st.wrongT, 0) << name;
   EXPECT_EQ(st.wrongNormal, 0) << name;
+  EXPECT_LT(st.maxOff, 0.5) << name << ": spawn_offset() does not clear the hit point's error";
 }
 
 // ============================================================ frustums
@@ -1017,7 +1054,7 @@ TEST(HardDegenerate, Class6BuildersRejectDegenerateInput) {
 }
 
 // Shapes of every size the domain admits, 2^-28 .. 2^29, anywhere within
-// 2^31 of the world origin, seen from 0.5 .. 8 sizes away: judged like the
+// 2^31 of the world origin, seen from 0.5 .. 4096 sizes away: judged like the
 // frustum classes (the band, the t and normal bounds, the contract). Zero
 // radius gave a NaN normal, radii below ~1e-19 or origins beyond ~1e19
 // zero-length normals, radii >= 1.9e19 no hit at all (issue 10 class 6);
@@ -1056,7 +1093,7 @@ TEST(HardDegenerate, Class6EveryScaleOfTheDomain) {
         else
           centre = lift<L>(s.a) + unit(lift<L>(s.b)) * (L(s.h) / 2);
       }
-      LV o = centre + rand_unit(g) * (R * L(loguni(g, 0.5, 8)));
+      LV o = centre + rand_unit(g) * (R * L(loguni(g, 0.5, 4096)));
       LV aim = centre + rand_ball(g, 1.2 * double(R));
       judge(st, s, centre, R, fv(o), fdir(aim - o), i % 64 == 0);
       // Far outside the domain: the contract only.

@@ -1,54 +1,73 @@
 // shapes.h - the closed set of shapes rt64k's scenes use, as tagged structs.
 //
 // THE INTERSECTION CONTRACT. eps = 2^-24 (float's unit roundoff). For a
-// shape, R = its size (Shape::size: the radius of its bounding ball; 0 for a
-// plane) and, for a ray, D = the distance from its origin to the shape (to
-// the centre of that ball; to the plane's point r0 a for a plane). The
-// world's magnitude (where the shape stands) enters none of the bounds.
+// shape, R = Shape::size, the radius of its bounding ball (0 for a plane);
+// for a ray, D = the distance from its origin to that ball's centre (for a
+// plane, to its stored point b). No bound below involves the world's
+// magnitude (where the shape stands), only R and D.
 //
-// Builders (make_*) accept a shape only inside the domain below; anything
-// else (zero or negative radius or height, zero axis or normal, collinear
-// triangle vertices, NaN or Inf, out of range) gives a shape of kind kEmpty
-// that every ray misses: no degenerate shape is ever hit with a NaN or an
-// invented normal.
-//   * every coordinate |x| <= kMaxCoord; sizes (sphere radius, frustum
-//     height and larger radius) in [kMinSize, kMaxCoord];
+// DOMAIN. Builders (make_*) accept:
+//   * coordinates |x| <= kMaxCoord = 2^32; sphere radius, frustum height and
+//     larger radius in [kMinSize, kMaxCoord] = [2^-32, 2^32];
 //   * frustum: radii >= 0, not both 0, height / larger radius in
-//     [kMinAspect, kMaxAspect]; a cap of radius 0 is dropped (no area);
-//   * triangle: vertices not collinear (cross(b - a, c - a), computed in
-//     double, nonzero and within float's normal range).
-// Then squares and products of every quantity stay far inside float range.
+//     [kMinAspect, kMaxAspect] = [2^-20, 2^20]; a cap of radius 0 (a cone's
+//     apex) is dropped; a nonzero finite axis (any length);
+//   * plane: a nonzero finite normal (any length), |offset| <= kMaxCoord;
+//   * triangle: cross(b - a, c - a), computed in double, with its largest
+//     component a normal float (>= 2^-126): not collinear, however thin.
+// Anything else (zero, negative, NaN or Inf sizes, zero axis or normal,
+// collinear vertices, out of range) gives a shape of kind kEmpty: no ray
+// hits it and a scene gives it no bound. No degenerate shape is hit with a
+// NaN or an invented normal. Within the domain every square and product the
+// solvers form stays far inside float's range.
 //
-// For every ray with finite origin and unit direction (to float precision):
+// FOR EVERY RAY with finite origin and unit direction (to float precision):
 //   * intersect() reports the nearest hit with  tMin < t < hit.t  (hit.t holds
 //     the current nearest distance on entry, kHuge for "none yet"), and then
 //     overwrites hit.t, hit.normal and hit.front (and piece, local); otherwise
 //     it leaves hit alone.
-//   * hit.t and hit.normal are finite, hit.normal has unit length and faces
-//     the incoming ray: dot(normal, dir) <= 0; hit.front is true when the ray
-//     arrives from outside the solid (or from the side the plane/triangle
-//     normal points to). Also for NaN/Inf rays: no NaN or Inf comes out.
-// Accuracy, for rays with D <= kMaxCoord, against the exact answer for the
-// stored shape and the float ray (tests/test_shapes_hard.cpp, a long double
-// oracle; tests/test_shapes.cpp):
-//   * THE BAND: a ray whose exact answer (hit or miss, piece, side) changes
-//     when its origin moves by 2^-16 (R + D), or that crosses a piece within
-//     2^-16 (R + D) / |cos| of the piece's boundary (a rim, a side's end, a
-//     cone's apex, a triangle's edge), or is tangent within that. Float
-//     rounding of the ray's position relative to the shape alone is
-//     eps (R + D); inside the band the answer is rounding's to pick.
-//   * Outside the band: hit/miss, the piece (frustum side or cap) and
-//     hit.front are exact; |t - t_exact| <= 64 eps (R + D) / |cos|, cos the
-//     incidence at the exact hit (the crossing's condition number); the
-//     normal is within 64 eps (1 + (R + D) / rho) rad, rho the radius of
-//     curvature at the hit (frustum side: its radius there; sphere: R;
-//     plane, triangle, caps: no such term).
-//   * Plane: no band (t is continuous in the origin); hit/miss and hit.front
-//     exact for |cos| >= 2^-48; |t - t_exact| <= |t_exact| (2^-23 + 2^-48 /
-//     |cos|): the plane is solved in double (2^-23: float's rounding of t).
+//   * hit.t and hit.normal are finite and |hit.normal| = 1 (to 1e-6), also
+//     for origins far beyond the domain (tested from 1e12 .. 1e38 away);
+//     NaN or Inf rays never hit.
+//   * hit.normal is the outward normal if hit.front, else its negation;
+//     hit.front is true when the ray arrives from outside the solid (or from
+//     the side the plane/triangle normal points to). So the normal faces the
+//     ray: exactly outside the band (hit.front is exact there), and within
+//     4 eps of perpendicular (dot(normal, dir) <= 4 eps) inside it.
+//
+// ACCURACY, against the exact answer for the stored shape and the very float
+// ray (tests/test_shapes_hard.cpp: a long double oracle without tolerances,
+// itself checked against __float128; 1e5 rays per class and kind):
+//   * THE BAND: rays whose exact answer (hit or miss, the piece hit, the
+//     side) flips when the origin moves by at most 2^-16 (R + D), or that
+//     cross a piece within 2^-16 (R + D) / |cos| of its boundary (a rim, a
+//     side's end, a triangle's edge), or pass within 2^-16 (R + D) of a
+//     cone's apex: tangent, rim, edge and apex rays. Float rounding of the
+//     ray relative to the shape alone is eps (R + D); inside the band the
+//     answer is rounding's to pick (still under the guarantees above).
+//   * Outside the band (sphere, frustum, triangle): hit/miss, the piece
+//     (frustum side or cap) and hit.front are exact;
+//     |t - t_exact| <= 64 eps (R + D) kappa, kappa = 1 / |cos| of the
+//     incidence at the exact hit (the crossing's condition number; measured
+//     at most 32); the normal is within 64 eps (1 + (R + D) kappa / rho)
+//     rad of the exact one, rho the radius of curvature there (frustum
+//     side: its radius at the hit; sphere: R; caps, triangles: no term), as
+//     a point off by the t error along the surface turns the normal by that
+//     over rho (measured at most 6).
+//   * Plane: no band (t is continuous in the origin). hit/miss and
+//     hit.front exact for |cos| >= 2^-48; |t - t_exact| <= 2^-23 |t_exact| +
+//     e (|t_exact| + D) / |cos|, e = 2^-22 for |cos| >= 2^-12 (cos and the
+//     distance in float) and 2^-50 below (in double); measured at most 0.5
+//     of it.
 //   * A cone's apex has no normal: a hit exactly there gets the axis.
-// Rays spawned from a hit point must start at spawn_origin() so that they do
-// not find the surface they leave (self-intersection, "shadow acne").
+// Tested over: frustums of every kind and cap combination with random axes,
+// h/r 0.005 .. 200 (ordinary), 1e2 .. 1e4 (long thin), 1e-3 .. 1e-1 (flat),
+// at 1e2 .. 1e5 from the world origin (far); every kind at sizes 2^-28 ..
+// 2^29 anywhere within 2^31 of the origin, rays from 0.5 .. 4096 R away;
+// planes within 1e-13 .. 1 of parallel, 1e5 from the origin.
+//
+// SPAWNED RAYS must start at spawn_origin() so that they do not find the
+// surface they leave (self-intersection, "shadow acne"): see spawn_offset().
 //
 // LEAVING FOR GOOD: every shape is flat (plane, triangle) or a convex solid
 // (sphere, closed frustum), or lies on the boundary of its convex hull (the
@@ -153,17 +172,17 @@ constexpr float kBoundPad = 1.0f / 1024;
 // Offset of a spawned ray's origin from the surface along the normal. The
 // hit point p = org + dir t, as the tracer computes it, is off the surface
 // by (a) its rounding to float coordinates, at most eps sqrt(3) max_abs(p),
-// which the offset's own addition repeats, and (b) the solver's error, at
-// most 2^-18 (R + t) along the normal over the tests' rays, band included
-// (tests/test_shapes_hard.cpp measures it against this offset). So the
-// offset is kSpawnPos max_abs(p) (8 eps: 2.3x the 2 sqrt(3) eps of (a)) plus
-// kSpawnRel (R + t), `scale` = R + t (spawn_scale()): relative to what the
-// error scales with, the shape's size and the ray's length, and to the
-// world's magnitude only through the rounding of p itself. At the scenes'
-// scale (max_abs(p) < 30, R + t < 40) it is below 6e-4; glass of radius 1
-// at 1e5 from the origin gets 0.05 (the old 2^-12 max_abs(p) gave 24, more
-// than the radius: refraction rays started outside the solid, issue 10
-// class 5).
+// which the offset's own addition repeats, and (b) the solver's error along
+// the normal, a few eps (R + D) (THE INTERSECTION CONTRACT; D <= t + R). So
+// the offset is kSpawnPos max_abs(p) (8 eps: 2.3x the 2 sqrt(3) eps of (a))
+// plus kSpawnRel (R + t), with `scale` = R + t from spawn_scale(): relative
+// to what the error scales with, the shape's size and the ray's length, and
+// to the world's magnitude only through the rounding of p itself. Measured
+// over every hit of tests/test_shapes_hard.cpp, band included: a hit point
+// lies at most 0.15 of this offset off its surface. At the scenes' scale
+// (max_abs(p) < 30, R + t < 40) it is below 6e-4; glass of radius 1 at 1e5
+// from the origin gets 0.05 (the old 2^-12 max_abs(p) gave 24, more than
+// the radius: refraction rays started outside the solid, issue 10 class 5).
 constexpr float kSpawnPos = 1.0f / 2097152; // 2^-21 = 8 eps
 constexpr float kSpawnRel = 1.0f / 65536;   // 2^-16
 inline float spawn_offset(Vec3 p, float scale) {

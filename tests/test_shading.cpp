@@ -231,7 +231,7 @@ double schlick(double f0, D3 V, D3 L) {
 
 TEST(Shading, CookTorranceGrazingMirrorGlintIsTheModelsOwnLimit) {
   // V.H -> 0 only when V and L are nearly opposite: both grazing, on opposite
-  // sides, i.e. the mirror configuration at grazing (trace.h, kVdotHNote).
+  // sides, i.e. the mirror configuration at grazing (trace.h, above kCosEps).
   // There H = N (D at its peak D(0) = 1/(pi m^2)), G -> 1 (Torrance-Sparrow's
   // V-groove: facets parallel to the surface are not masked) and F -> 1, so
   // the term is F D(0) (N.L/N.V) = F D(0): a bright glint, bounded; no floor

@@ -111,7 +111,7 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
   // V.H = |V + L| / 2 >= (N.V + N.L) / 2 (the length of V + L is at least its
   // component along N): an identity, so this floor only undoes rounding. It
   // keeps G's ratios <= 2 and the returned F D G / (N.V), times N.L, below
-  // 4 F D for every V and L (kVdotHNote in trace.h).
+  // 4 F D for every V and L (trace.h, above kCosEps).
   float VdotH = rt_max(dot(V, H), 0.5f * (NdotV + NdotL));
   float x = 1.0f - VdotH, x2 = x * x;
   float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);

@@ -76,9 +76,9 @@ void render_full_rows(const Scene& scene, u32* fb, int width, int height, int st
 // view ray that grazes the surface (1e-4 is cos(89.994 deg)). There G <=
 // 2 (N.H)(N.V)/(V.H) cancels the 1/(N.V) unless N.L is as small.
 //
-// V.H (kVdotHNote): with H the half vector, V.H = |V + L| / 2 >= (N.V + N.L)
-// / 2, so V.H -> 0 only when V and L are nearly opposite, i.e. both graze
-// the surface from opposite sides: the mirror configuration at grazing.
+// V.H: with H the half vector, V.H = |V + L| / 2 >= (N.V + N.L) / 2, so
+// V.H -> 0 only when V and L are nearly opposite, i.e. both graze the
+// surface from opposite sides: the mirror configuration at grazing.
 // There the model's own limit holds and is kept: G -> 1 (Torrance-Sparrow's
 // V-groove G, which Cook & Torrance 1982 use and SPEC prescribes, masks no
 // microfacet parallel to the surface, and H -> N selects those), Schlick's

@@ -143,13 +143,15 @@ void plane_normal(const Shape& s, Hit& hit) {
 // (|k| > 1): there the two nappes of the double cone lie within 2 r / |k|
 // of each other, a ray crosses both close together, and B^2 - AC cancels
 // unless y0 stays within the slab, where rk = r0 + k y0 is of the size of
-// the radii. Either way A, B, C have the size of the shape, whatever the ray's distance and
-// wherever it crosses the axis (the remedy Haines et al. apply to spheres). The point nearest the
-// base centre, used before, left |v| and y0 of the size of h on long thin frustums: for h/r =
-// 1e2..1e4, C = v.v - rk^2 lost every digit of the radius (issue 10 class 1). What remains is the
-// rounding of the ray's position relative to the base, eps |org - base|. (The slab is widened by
-// rim so that a ray that passes just outside it, within the pieces'
-// overlap, is still solved at its own nearest point, not one far along.)
+// the radii. Either way A, B, C have the size of the shape, whatever the
+// ray's distance and wherever it crosses the axis (the remedy Haines et al.
+// apply to spheres). The point nearest the base centre, used before, left
+// |v| and y0 of the size of h on long thin frustums: for h/r = 1e2..1e4,
+// C = v.v - rk^2 lost every digit of the radius (issue 10 class 1). What
+// remains is the rounding of the ray's position relative to the base,
+// eps |org - base|. (The slab is widened by rim so that a ray that passes
+// just outside it, within the pieces' overlap, is still solved at its own
+// nearest point, not one far along.)
 //
 // Where a piece ends, pieces overlap by `rim` = kRimRel (|org - base|_max +
 // h + max(r0, r1)): the magnitudes in the computation, so the overlap
@@ -161,7 +163,7 @@ void plane_normal(const Shape& s, Hit& hit) {
 // vanish from 2^-23 on; 2^-20 keeps an 8x margin and stays 16x inside the
 // band of the tests (2^-16 of the shape's size plus the ray's distance).
 // The side's end is tested where it is well conditioned: along the axis
-// (y in [-rim, h + rim]) and, for a flat side (|k| > 1, kFrustumFlat), also
+// (y in [-rim, h + rim]) and, for a flat side (|k| > 1: Shape::c.z = 2), also
 // radially (|v + tr u| in [min r - rim, max r + rim]): a flat side is
 // crossed at y known to eps |org - base| but at a radius known only to
 // |k| times that, so a rim slack along the axis overhung a flat ring's rim
@@ -323,12 +325,9 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   case kSphere: return hit_sphere(s, ray, tMin, hit);
   case kPlane: return hit_plane(s, ray, tMin, hit);
   case kCylinder:
-  case kCone:
-    return hit_frustum(s, ray, tMin, hit);
-  case kTriangle:
-    return hit_triangle(s, ray, tMin, hit);
-  case kEmpty:
-    return false;
+  case kCone: return hit_frustum(s, ray, tMin, hit);
+  case kTriangle: return hit_triangle(s, ray, tMin, hit);
+  case kEmpty: return false;
   }
   return false;
 }

@@ -13,11 +13,13 @@
 //     eps * (R + D) at best, so that is the unit every bound below uses;
 //     the world's magnitude (where the shape stands) appears nowhere.
 //   * The band: a ray whose exact answer (hit or miss, piece hit, side hit
-//     from) changes when its origin moves by eta = 2^-16 (R + D) along any
-//     axis, or whose crossing of any piece lies within eta / |cos| of that
-//     piece's boundary (a rim, the side's end, the apex). Inside the band
-//     the answer is rounding's to pick; it must still obey the contract
-//     (finite, unit normal facing the ray) and is counted, not judged.
+//     from) changes when its origin moves by at most eta = 2^-16 (R + D)
+//     (tried along the axes at eta, eta / 4, ..., eta / 4^12), or whose
+//     crossing of any piece lies within eta / |cos| of that piece's boundary
+//     (a rim, the side's end, a triangle's edge), or that passes within eta
+//     of a cone's apex. Inside the band the answer is rounding's to pick; it
+//     must still obey the contract (finite, unit normal within 4 eps of
+//     facing the ray) and is counted, not judged.
 //   * Outside the band: hit/miss, piece and side must equal the oracle's;
 //     |t - t_ref| <= kTBound eps (R + D) kappa with kappa = 1 / |cos| of
 //     the incidence at the exact hit (the condition of a ray/surface
@@ -25,8 +27,15 @@
 //     rad, rho the radius of curvature at the hit (frustum side: its radius
 //     there; sphere: R; caps and planes: no such term): the normal turns by
 //     the hit point's error along the surface over that radius.
+//   * Every hit, band included: the hit point as the tracer computes it,
+//     org + t dir, lies less than half of spawn_offset() off its surface.
 // Each test prints its counts: rays, hits, disagreements with the oracle,
 // how many of those lie in the band, and the wrong ones (which must be 0).
+// Classes (issue 10): 1 long thin, 2 flat, 3 far from the origin (frustums:
+// cylinder, cone with apex, frustum; every cap combination, random axes),
+// 4 near-parallel planes, 5 refraction from glass far from the origin, 6
+// degenerate builder input and every scale of the domain; plus ordinary
+// frustums as a control. 1e5 rays per class and kind.
 #include <gtest/gtest.h>
 
 #include <quadmath.h>

@@ -89,7 +89,7 @@ struct Hit {
   Vec3 normal;
   bool front;
   u8 piece;     // intersect_t(): which piece (frustum: side, base, top cap; plane: 1 = front)
-  float local;  // intersect_t(): the shape's own parameter of the hit, for hit_normal()
+  float local;  // intersect_t(): the shape's own parameter of the hit (frustum: the root tr)
 };
 
 enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle, kEmpty };

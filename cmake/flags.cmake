@@ -23,6 +23,6 @@ set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti
 # save bytes where speed does not matter. An optimisation level changes no
 # computed value under RT64K_FP_FLAGS (no fast-math, no contraction), so the
 # tests still test what ships. Paths relative to the repository root.
-set(RT64K_COLD_SOURCES scenes/scenes.cpp src/core/scene.cpp src/core/overlay.cpp
-    src/core/synth.cpp)
+set(RT64K_COLD_SOURCES scenes/scenes.cpp src/core/scene.cpp src/core/shapes_build.cpp
+    src/core/overlay.cpp src/core/synth.cpp)
 set(RT64K_COLD_FLAGS -Os)

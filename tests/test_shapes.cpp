@@ -256,6 +256,8 @@ Ref ref_intersect(const Shape& s, D3 o, D3 d, double tMin = 0) {
     consider(r, dot(e2, qv) / det, tMin, unit(cross(e1, e2)), 0, d);
     break;
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
   return r;
 }
@@ -315,6 +317,8 @@ double surface_distance(const Shape& s, D3 p) {
     if (s0 >= 0 && s1 >= 0 && s2 >= 0) return std::fabs(h);
     return std::min({seg_dist3d(p, A, B), seg_dist3d(p, B, C), seg_dist3d(p, C, A)});
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
   return 0;
 }
@@ -343,6 +347,8 @@ double carrier_distance(const Shape& s, D3 p) {
     D3 A = dv(s.a), n = unit(cross(dv(s.b) - A, dv(s.c) - A));
     return std::fabs(dot(p - A, n));
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
   return 0;
 }
@@ -510,6 +516,8 @@ void random_surface_point(const Sample& smp, Rng& g, D3& p, D3& n) {
     n = unit(cross(B - A, C - A));
     return;
   }
+  case kEmpty: // builders reject degenerate input: nothing to hit or measure
+    break;
   }
 }
 
@@ -598,15 +606,16 @@ TEST(Sphere, RaySpawnedFromHitDoesNotRehit) {
     Cast c = cast(s, o, d);
     if (!c.hit) continue;
     Vec3 p = at(o, d, c.h.t), n = c.h.normal;
+    float off = spawn_offset(p, spawn_scale(s, c.h));
     Vec3 out = fdir(rand_hemi(g, dv(n), 0.01)), in = fdir(rand_hemi(g, -dv(n), 0.05));
-    EXPECT_FALSE(cast(s, spawn_origin(p, n, out), out).hit) << "reflected ray re-hit, i=" << i;
-    Vec3 o2 = spawn_origin(p, n, in);
+    EXPECT_FALSE(cast(s, spawn_origin(p, n, out, off), out).hit) << "reflected ray re-hit, i=" << i;
+    Vec3 o2 = spawn_origin(p, n, in, off);
     Cast far = cast(s, o2, in);
     ASSERT_TRUE(far.hit) << "refracted ray found no far side, i=" << i;
     // The far side: the chord 2 r cos from p, shortened by the offset's share
     // along the ray; exactly, the double reference from the spawned origin.
     double cosIn = dot(dv(in), -dv(n)), chord = 2 * 1.5 * cosIn;
-    EXPECT_GT(far.h.t, chord - 2 * spawn_offset(p) / cosIn) << i;
+    EXPECT_GT(far.h.t, chord - 2 * off / cosIn) << i;
     Ref r = ref_intersect(s, dv(o2), dv(in));
     EXPECT_NEAR(far.h.t, r.t, 1e-5 / cosIn) << i;
     EXPECT_FALSE(far.h.front);
@@ -668,15 +677,15 @@ TEST(Sphere, VeryCloseTinyT) {
   expect_valid_hit(t, v3(0, 0, 1), "tiny sphere");
 }
 
-TEST(Sphere, ZeroRadiusNeverNaN) {
+TEST(Sphere, ZeroRadiusIsRejected) {
+  // Radius 0 gave a NaN normal ((p - c) / 0); the builder now returns an
+  // empty shape, which no ray hits (test_shapes_hard.cpp: every degenerate input).
   Shape s = make_sphere(v3(0, 0, 0), 0);
+  EXPECT_EQ(s.kind, kEmpty);
   for (float y : {0.0f, 1e-7f, 1e-30f, -1e-3f}) {
     Cast c = cast(s, v3(-5, y, 0), v3(1, 0, 0));
-    if (c.hit) {
-      expect_valid_hit(c, v3(1, 0, 0), "zero radius");
-    } else {
+    EXPECT_FALSE(c.hit);
       EXPECT_TRUE(untouched(c, kHuge));
-    }
   }
 }
 
@@ -746,7 +755,7 @@ TEST(Plane, SpawnedRayDoesNotRehit) {
     Vec3 p = at(o, d, c.h.t);
     for (double side : {1.0, -1.0}) {
       Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 0.001));
-      EXPECT_FALSE(cast(s, spawn_origin(p, c.h.normal, d2), d2).hit) << i;
+      EXPECT_FALSE(cast(s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(s, c.h))), d2).hit) << i;
     }
     ++n;
   }
@@ -764,13 +773,18 @@ TEST(Plane, FarAndNear) {
   EXPECT_EQ(n.h.t, 1e-6f);
 }
 
-TEST(Plane, ZeroNormalFallsBackFinite) {
-  Shape s = make_plane(v3(0, 0, 0), 1); // normalize's fallback: +y
-  EXPECT_NEAR(flen(s.a), 1.0, kUnitTol);
+TEST(Plane, ZeroNormalIsRejected) {
+  // A zero normal has no direction: the builder returns an empty shape
+  // instead of inventing +y (normalize's fallback, before).
+  Shape s = make_plane(v3(0, 0, 0), 1);
+  EXPECT_EQ(s.kind, kEmpty);
   Cast c = cast(s, v3(0, 5, 0), v3(0, -1, 0));
-  ASSERT_TRUE(c.hit);
-  expect_valid_hit(c, v3(0, -1, 0), "fallback plane");
-  EXPECT_EQ(c.h.t, 4.0f);
+  EXPECT_FALSE(c.hit);
+  EXPECT_TRUE(untouched(c, kHuge));
+  // A tiny but nonzero normal keeps its direction.
+  Shape tiny = make_plane(v3(0, 1e-30f, 0), 1);
+  ASSERT_EQ(tiny.kind, kPlane);
+  EXPECT_EQ(tiny.a.y, 1.0f);
 }
 
 // ---- cylinder (base at the origin, axis +y, radius 1, height 2, both caps)
@@ -895,24 +909,22 @@ TEST(Cylinder, FarAwayAndTiny) {
   EXPECT_NEAR(t.h.t, 1 - 1e-4, 1e-7);
 }
 
-TEST(Cylinder, DegenerateDimensionsNeverNaN) {
-  // Zero height (k = 0/0), zero radius, zero axis (falls back to +y).
+TEST(Cylinder, DegenerateDimensionsAreRejected) {
+  // Zero height (k = 0/0), zero radius, zero axis (was: falls back to +y):
+  // empty shapes that no ray hits.
   Shape shapes[] = {make_cylinder(v3(0, 0, 0), v3(0, 1, 0), 1, 0, kCapBase | kCapTop),
                     make_cylinder(v3(0, 0, 0), v3(0, 1, 0), 0, 2, kCapBase | kCapTop),
                     make_cylinder(v3(0, 0, 0), v3(0, 0, 0), 1, 2, kCapBase | kCapTop)};
   Rng g(105);
   for (const Shape& s : shapes) {
+    EXPECT_EQ(s.kind, kEmpty);
     for (int i = 0; i < 2000; ++i) {
       Vec3 o = fv(rand_ball(g, 4)), d = fdir(rand_ball(g, 1.2) - dv(o));
       Cast c = cast(s, o, d);
-      if (c.hit) {
-        expect_valid_hit(c, d, "degenerate cylinder");
-      } else {
+      ASSERT_FALSE(c.hit);
         ASSERT_TRUE(untouched(c, kHuge));
       }
     }
-  }
-  EXPECT_EQ(shapes[2].b.y, 1.0f);
 }
 
 // ---- cones (full cone: base at origin, axis +y, radius 1, height 2, base cap)
@@ -1039,10 +1051,10 @@ TEST(OpenFrustum, InnerWallSeenThroughOpening) {
     Ref r = ref_intersect(s, dv(o), dv(fd));
     EXPECT_NEAR(c.h.t, r.t, 1e-5 * (1 + r.t)) << i;
     inner += r.piece == 0;
+
   }
   EXPECT_GT(inner, 200); // some of them do land on the inner wall
 }
-
 
 // A cast at a hard case: a hit is valid and on the surface within kSurfTol of
 // the scale of its numbers; a miss leaves the Hit untouched. `i` labels the case.
@@ -1102,10 +1114,15 @@ TEST(Cone, DegenerateDimensionsNeverNaN) {
 
 // Rays aimed exactly at a cap's rim that enter the solid through both the
 // side and the cap (cos <= -0.001 with each) must hit: a miss, or a hit from
-// inside (the far wall), is a crack between the two pieces.
+// inside (the far wall), is a crack between the two pieces. The float
+// origin is chosen first and the direction aimed from it, so the float ray
+// passes the rim point within eps of its length (rounding the origin after
+// aiming moved it by eps |origin|, the world's magnitude, up to 1e-6 here:
+// enough for a grazing ray to pass outside the solid). A ray that the
+// double reference still does not see entering is set aside and counted.
 void expect_rim_watertight(const char* name, u8 capsWanted, bool fullCone) {
   Rng g(111);
-  long rays = 0, cracks = 0;
+  long rays = 0, cracks = 0, setAside = 0;
   for (int shape = 0; shape < 200; ++shape) {
     Sample smp = random_shape(fullCone ? Kind::FullCone : Kind::CappedCylinder, g);
     Shape& s = smp.s;
@@ -1129,20 +1146,31 @@ void expect_rim_watertight(const char* name, u8 capsWanted, bool fullCone) {
         found = dot(d, nSide) < -0.001 && dot(d, nCap) < -0.001;
       }
       if (!found) continue; // a wedge too thin to aim into
-      Vec3 o = fv(P - d * (smp.extent * uni(g, 0.1, 3))), fd = fdir(d);
+      Vec3 o = fv(P - d * (smp.extent * uni(g, 0.1, 3)));
+      d = unit(P - dv(o));
+      if (!(dot(d, nSide) < -0.001 && dot(d, nCap) < -0.001)) continue;
+      Vec3 fd = fdir(d);
+      Ref r = ref_intersect(s, dv(o), dv(fd));
+      if (!r.hit || !r.front) {
+        ++setAside;
+        continue;
+      }
       Cast c = cast(s, o, fd);
       ++rays;
       if (!c.hit || !c.h.front) {
         if (++cracks <= 5)
-          std::printf("  crack: kind %d r0=%.9g r1=%.9g h=%.9g |a|=%.3g; org=(%.9g,%.9g,%.9g) "
-                      "dir=(%.9g,%.9g,%.9g) cos side %.3g cap %.3g; hit=%d t=%.9g dist=%.9g\n",
-                      int(s.kind), s.r0, s.r1, s.h, maxabs(dv(s.a)), o.x, o.y, o.z, fd.x, fd.y,
-                      fd.z, dot(d, nSide), dot(d, nCap), int(c.hit), c.h.t, norm(P - dv(o)));
+          std::printf("  crack: kind %d a=(%.9g,%.9g,%.9g) b=(%.9g,%.9g,%.9g) r0=%.9g r1=%.9g "
+                      "h=%.9g caps=%d; org=(%.9g,%.9g,%.9g) dir=(%.9g,%.9g,%.9g) cos side %.3g "
+                      "cap %.3g; hit=%d t=%.9g dist=%.9g\n",
+                      int(s.kind), s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.r0, s.r1, s.h,
+                      int(s.caps), o.x, o.y, o.z, fd.x, fd.y, fd.z, dot(d, nSide), dot(d, nCap),
+                      int(c.hit), c.h.t, norm(P - dv(o)));
       }
     }
   }
-  std::printf("[ measured ] %s: %ld rays aimed at cap rims, %ld passed through\n", name, rays,
-              cracks);
+  std::printf("[ measured ] %s: %ld rays aimed at cap rims, %ld passed through (%ld set aside: "
+              "the reference sees them miss)\n",
+              name, rays, cracks, setAside);
   EXPECT_GT(rays, 150000);
   EXPECT_EQ(cracks, 0);
 }
@@ -1280,10 +1308,20 @@ TEST(Triangle, RayInPlaneOrParallelMisses) {
   EXPECT_FALSE(cast(s, v3(-1, 0.25f, 0.5f), v3(1, 0, 0)).hit);
 }
 
-TEST(Triangle, DegenerateTrianglesNeverNaN) {
+TEST(Triangle, DegenerateTrianglesRejectedSliversKept) {
+  // Collinear vertices and a point have no area: empty shapes (they were hit
+  // with normalize's invented +y normal). A sliver 1e-30 wide has an area
+  // and, from the double cross product, its true normal +z.
   Shape shapes[] = {make_triangle(v3(0, 0, 0), v3(1, 0, 0), v3(2, 0, 0)),       // collinear
                     make_triangle(v3(1, 1, 1), v3(1, 1, 1), v3(1, 1, 1)),       // a point
                     make_triangle(v3(0, 0, 0), v3(1, 0, 0), v3(1, 1e-30f, 0))}; // sliver
+  EXPECT_EQ(shapes[0].kind, kEmpty);
+  EXPECT_EQ(shapes[1].kind, kEmpty);
+  ASSERT_EQ(shapes[2].kind, kTriangle);
+  Cast onSliver = cast(shapes[2], v3(0.999f, 0, 1), v3(0, 0, -1));
+  if (onSliver.hit) {
+    EXPECT_EQ(onSliver.h.normal.z, 1.0f);
+  }
   Rng g(115);
   for (const Shape& s : shapes) {
     for (int i = 0; i < 2000; ++i) {
@@ -1324,7 +1362,8 @@ TEST(Triangle, SpawnedRayDoesNotRehit) {
     Vec3 p = at(o, d, c.h.t);
     for (double side : {1.0, -1.0}) {
       Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 0.001));
-      EXPECT_FALSE(cast(smp.s, spawn_origin(p, c.h.normal, d2), d2).hit) << i;
+      EXPECT_FALSE(cast(smp.s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(smp.s, c.h))), d2).hit)
+          << i;
     }
     ++n;
   }
@@ -1413,6 +1452,7 @@ TEST(AllShapes, IntervalIsOpenAndRespected) {
 struct SpawnCase {
   Sample smp;
   Vec3 p, n; // float hit point and ray-facing normal
+  float scale; // spawn_scale() of the hit
   bool front, degenerate, apex;
 };
 
@@ -1443,8 +1483,8 @@ void note(PropStats* st, const char* what, const Shape& s, Vec3 o, Vec3 d, const
 
 // Outcome of a spawned ray: 0 = fine, 1 = re-hit near t = 0 (or a closed
 // solid's far side missed).
-int check_spawn(const Sample& smp, Vec3 p, Vec3 n, bool front, Vec3 d2, float offsetScale,
-                bool strict, bool edgeHit, bool apexHit, PropStats* st) {
+int check_spawn(const Sample& smp, Vec3 p, float scale, Vec3 n, bool front, Vec3 d2,
+                float offsetScale, bool strict, bool edgeHit, bool apexHit, PropStats* st) {
   const Shape& s = smp.s;
   // Next to a cone's apex the side's normal (and so which way is out) is
   // itself rounding noise: such hits are counted, not checked.
@@ -1455,10 +1495,10 @@ int check_spawn(const Sample& smp, Vec3 p, Vec3 n, bool front, Vec3 d2, float of
   D3 outward = dv(front ? n : -n);
   bool leaving = dot(dv(d2), outward) > 0;
   bool flat = s.kind == kPlane || s.kind == kTriangle;
-  float off = offsetScale * spawn_offset(p);
+  float off = offsetScale * spawn_offset(p, scale);
   Vec3 o2 = p + n * (dot(d2, n) >= 0 ? off : -off);
   if (offsetScale == 1.0f) { // the shipped function itself
-    Vec3 o1 = spawn_origin(p, n, d2);
+    Vec3 o1 = spawn_origin(p, n, d2, spawn_offset(p, scale));
     EXPECT_TRUE(o1.x == o2.x && o1.y == o2.y && o1.z == o2.z);
   }
   Cast c = cast(s, o2, d2);
@@ -1488,7 +1528,7 @@ int check_spawn(const Sample& smp, Vec3 p, Vec3 n, bool front, Vec3 d2, float of
     Shape closed = s; // an open frustum: the solid its missing cap would close
     if (closed.kind != kSphere) closed.caps = kCapBase | kCapTop;
     Ref thick = ref_intersect(closed, dv(p), -outward, 1e-4 * S);
-    if (!thick.hit || thick.t < 4.0 * spawn_offset(p)) {
+    if (!thick.hit || thick.t < 4.0 * spawn_offset(p, scale)) {
       if (st) ++st->spawnInThin;
       return 0;
     }
@@ -1519,7 +1559,7 @@ int check_spawn(const Sample& smp, Vec3 p, Vec3 n, bool front, Vec3 d2, float of
   // solid (the offset cleared p's rounding error), and the float ray must not
   // find a surface near t = 0 that the exact answer from the same origin
   // does not have; a closed solid's far side must be found.
-  double offNominal = spawn_offset(p);
+  double offNominal = spawn_offset(p, scale);
   Ref r = ref_intersect(s, dv(o2), dv(d2));
   if (near_degenerate(s, dv(o2), dv(d2), r, kPerturb * scale_of(smp, o2, p))) return 0;
   bool fail = !inside_solid(s, dv(o2)) ||
@@ -1551,7 +1591,9 @@ void run_properties(Kind kind, unsigned seed) {
       ++st.hits;
       ASSERT_TRUE(std::isfinite(c.h.t) && c.h.t > 0 && c.h.t < kHuge) << i;
       ASSERT_TRUE(finite3(c.h.normal)) << i;
-      if (!(std::fabs(flen(c.h.normal) - 1) <= kUnitTol) || dot(c.h.normal, d) > 0) {
+      // Facing the ray up to the rounding of a dot product of nearly
+      // perpendicular unit vectors (a plane decides its side in double).
+      if (!(std::fabs(flen(c.h.normal) - 1) <= kUnitTol) || dot(c.h.normal, d) > 4 * kEps) {
         ++st.badNormal;
         note(&st, "normal not unit or not facing the ray", s, o, d, c, r);
       }
@@ -1570,13 +1612,16 @@ void run_properties(Kind kind, unsigned seed) {
         ++st.offSurface;
         note(&st, "hit point off the surface", s, o, d, c, r);
       }
-      if (!apex) st.maxSurfOverOffset = std::max(st.maxSurfOverOffset, dist / spawn_offset(p));
+      float scale = spawn_scale(s, c.h);
+      if (!apex)
+        st.maxSurfOverOffset = std::max(st.maxSurfOverOffset, dist / spawn_offset(p, scale));
       // Spawned rays: one back to the incoming side, one through.
       for (double side : {1.0, -1.0}) {
         Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 1.0 / 1024));
-        check_spawn(smp, p, c.h.normal, c.h.front, d2, 1.0f, true, degenerate, apex, &st);
+        check_spawn(smp, p, scale, c.h.normal, c.h.front, d2, 1.0f, true, degenerate, apex, &st);
       }
-      if (keep.size() < 20000) keep.push_back({smp, p, c.h.normal, c.h.front, degenerate, apex});
+      if (keep.size() < 20000)
+        keep.push_back({smp, p, c.h.normal, scale, c.h.front, degenerate, apex});
     }
     // Agreement with the reference, near-degenerate rays excluded and counted.
     bool agree = c.hit == r.hit;
@@ -1614,15 +1659,17 @@ void run_properties(Kind kind, unsigned seed) {
   int safeLevel = -1;
   PropStats sweep;
   for (int level = 0; level <= 20; ++level) {
-    float scale = std::ldexp(1.0f, -level);
+    float frac = std::ldexp(1.0f, -level);
     Rng g2(seed + 1);
     long fails = 0;
     for (const SpawnCase& k : keep) {
       D3 outward = dv(k.front ? k.n : -k.n);
       Vec3 out = fdir(rand_hemi(g2, outward, 1.0 / 1024)), in = fdir(rand_hemi(g2, -outward, 0.1));
       PropStats* log = level == 0 ? &sweep : nullptr;
-      fails += check_spawn(k.smp, k.p, k.n, k.front, out, scale, false, k.degenerate, k.apex, log);
-      fails += check_spawn(k.smp, k.p, k.n, k.front, in, scale, false, k.degenerate, k.apex, log);
+      fails += check_spawn(k.smp, k.p, k.scale, k.n, k.front, out, frac, false, k.degenerate,
+                           k.apex, log);
+      fails += check_spawn(k.smp, k.p, k.scale, k.n, k.front, in, frac, false, k.degenerate, k.apex,
+                           log);
     }
     if (fails) break;
     safeLevel = level;

@@ -185,6 +185,7 @@ const char* kind_name(ShapeKind k) {
   case kCylinder: return "cylinder";
   case kCone: return "cone";
   case kTriangle: return "triangle";
+  case kEmpty: return "empty";
   }
   return "?";
 }
@@ -202,6 +203,7 @@ std::string shape_json(const Shape& s) {
          ", \"cap_top\": " + (s.caps & kCapTop ? "true" : "false");
     break;
   case kTriangle: j += ", \"vertices\": [" + vec(s.a) + ", " + vec(s.b) + ", " + vec(s.c) + "]"; break;
+  case kEmpty: break;
   }
   return j + "}";
 }

@@ -8,6 +8,7 @@ void add_object(Scene& s, const Shape& shape, const Material& m) {
   Object& o = s.objects[i];
   o = Object{shape, m, {0, 0, 0}, kHuge};
   shape_bound(shape, o.boundCentre, o.boundRadius);
+  if (shape.kind == kEmpty) return; // boundR2 stays -1 (scene_clear): no ray passes
   if (o.boundRadius >= kHuge) {
     s.unboundedMask |= 1u << i;
     return;

@@ -1,52 +1,6 @@
 // shapes.cpp - ray/shape intersection under the contract in shapes.h.
 #include "shapes.h"
 
-Shape make_sphere(Vec3 centre, float radius) {
-  Shape s{};
-  s.kind = kSphere;
-  s.a = centre;
-  s.r0 = radius;
-  return s;
-}
-
-Shape make_plane(Vec3 normal, float offset) {
-  Shape s{};
-  s.kind = kPlane;
-  s.a = normalize(normal);
-  s.r0 = offset;
-  return s;
-}
-
-Shape make_cone(Vec3 base, Vec3 axis, float baseRadius, float topRadius, float height, u8 caps) {
-  Shape s{};
-  s.kind = baseRadius == topRadius ? kCylinder : kCone;
-  s.caps = caps;
-  s.a = base;
-  s.b = normalize(axis);
-  s.r0 = baseRadius;
-  s.r1 = topRadius;
-  s.h = height;
-  // Per-shape constants of hit_frustum(), computed once here.
-  s.c.x = (topRadius - baseRadius) / height;
-  s.c.y = max_abs(base) + height + baseRadius + topRadius;
-  return s;
-}
-
-Shape make_cylinder(Vec3 base, Vec3 axis, float radius, float height, u8 caps) {
-  return make_cone(base, axis, radius, radius, height, caps);
-}
-
-Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
-  Shape s{};
-  s.kind = kTriangle;
-  s.a = a;
-  s.b = b;
-  s.c = c;
-  s.n = cross(b - a, c - a);
-  s.sideMargin = kSideRel * max_abs(b - a) * max_abs(c - a);
-  return s;
-}
-
 namespace {
 
 // |x| by clearing the sign bit (one andps); equals rt_abs(x) but for the sign
@@ -98,77 +52,168 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return accept(t, tMin, 0, 0.0f, hit);
 }
 
+// The normal from the hit point relative to the centre, m = (org - centre)
+// + t dir: it has the sphere's size and carries eps (|org - centre| + t) of
+// rounding, not the float spacing of the hit point's world coordinates
+// (p - centre, as before, lost the normal when r fell below it: zero-length
+// or invented normals, issue 10 class 6). |m| = r up to that rounding; where
+// it comes out shorter than r / 2 (r below eps times the ray's distance,
+// hits that are all in the band) or longer than 2 r (a ray from beyond the
+// domain, where |m|^2 may overflow), m is rebuilt from Haines's stable terms:
+// f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
+// root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
+// zero, so the normal is always the sphere's own.
 void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
-  Vec3 p = ray.org + ray.dir * hit.t;
-  face(normalize((p - s.a) * (1.0f / s.r0), ray.dir * -1.0f), ray, hit);
+  Vec3 f = ray.org - s.a;
+  Vec3 m = f + ray.dir * hit.t;
+  float len2 = dot(m, m), r2 = s.r0 * s.r0;
+  if (!(len2 >= 0.25f * r2 && len2 <= 4.0f * r2)) { // also a ray from beyond the domain
+    float b = dot(f, ray.dir);
+    Vec3 perp = f - ray.dir * b;
+    float root = rt_sqrt(rt_max(r2 - dot(perp, perp), 0.0f));
+    m = perp + ray.dir * (hit.t < -b ? -root : root);
+    len2 = dot(m, m);
+  }
+  face(m * (1.0f / rt_sqrt(len2)), ray, hit);
 }
 
+// Plane {p : a.(p - b) = 0}, b its point offset * a. The numerator is the
+// origin's distance to the plane from q = b - org: rounding eps |q|, the
+// ray's distance, not |org| or |offset| (r0 - a.org carried eps of both).
+// cos = a.dir: in float, its rounding (< 3 eps) is at most 2^-20 of it for
+// |cos| >= kPlaneCosFloat = 2^-12, well inside t's own condition (a
+// direction rounded by eps moves t by eps / |cos| relative). Nearer
+// parallel, cos in double: the products of floats are exact and the sums
+// round at 2^-53, so the sign is right for |cos| >= 2^-50 and t good to
+// ~2^-52 / |cos| relative (float's cos had the wrong sign below 6e-8 and t
+// off by 100% near 1e-7; issue 10 class 4). Such rays, within 0.014 deg of
+// the plane, meet it at t > 4096 times their distance: rare in a frame.
+// (kPlaneCosFloat is in shapes.h: the packet kernels switch at it too.)
+
+inline double plane_cos(const Shape& s, const Ray& ray) {
+  return (double)s.a.x * ray.dir.x + (double)s.a.y * ray.dir.y + (double)s.a.z * ray.dir.z;
+}
+
+// Hit::piece records the side the ray comes from (1: against the normal,
+// the front), decided by the same cos as t: float's cos alone has the wrong
+// sign for |cos| below ~6e-8.
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  float denom = dot(s.a, ray.dir);
-  if (denom == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
-  float t = (s.r0 - dot(s.a, ray.org)) / denom;
-  return accept(t, tMin, 0, 0.0f, hit);  // t may be +-Inf for tiny denom: rejected by hit.t
+  float c = dot(s.a, ray.dir), t;
+  bool front;
+  if (abs_bits(c) >= kPlaneCosFloat) {
+    t = dot(s.a, s.b - ray.org) / c;
+    front = c < 0;
+  } else {
+    double cd = plane_cos(s, ray);
+    if (cd == 0) return false;  // parallel: no intersection (or the whole plane, ignored)
+    double num = (double)s.a.x * ((double)s.b.x - ray.org.x) +
+                 (double)s.a.y * ((double)s.b.y - ray.org.y) +
+                 (double)s.a.z * ((double)s.b.z - ray.org.z);
+    t = (float)(num / cd);  // beyond float's range +-Inf: rejected by hit.t (<= kHuge)
+    front = cd < 0;
+  }
+  return accept(t, tMin, front ? 1 : 0, 0.0f, hit);
 }
 
-// Where a cap meets the side, the two pieces overlap by `rim` = kRimRel times
-// the magnitudes in the computation (|org - base|, |base|, t, h, radii),
-// since rounding errors are relative to those: the side takes
-// y in [-rim, h + rim], a cap takes |p_perp| <= rc + rim. Without it, rounding
-// put a ray aimed at a rim outside both pieces: 10-15% of such rays passed
-// through the closed solid (tests/test_shapes.cpp, *CapRimNoCrack). Cracks
-// show at 2^-24 and vanish from 2^-23 on; 2^-20 keeps an 8x margin and stays
-// 256x below kSpawnRel, so a ray spawned off a cap does not meet the side's
-// overlap.
+void plane_normal(const Shape& s, Hit& hit) {
+  hit.front = hit.piece != 0;
+  hit.normal = hit.front ? s.a : -s.a;
+}
+
+// FRUSTUM (finite cylinder or cone). In the frame of the axis, with
+// v = perpendicular part of the ray point at t = tc, u = perpendicular part
+// of dir, y(t) = y0 + (t - tc) dy the axial coordinate and
+// r(y) = r0 + k y (k = (r1 - r0)/h):
+//   |v + tr u|^2 = (r0 + k y(tc + tr))^2
+// gives A tr^2 + 2 B tr + C = 0 with
+//   A = u.u - k^2 dy^2,  B = u.v - k dy rk,  C = v.v - rk^2,  rk = r0 + k y0.
+// Roots by q = -(B + sign(B) sqrt(B^2 - AC)), tr = q/A and C/q, which stays
+// exact when A -> 0 (ray parallel to a cone's side or to a cylinder's axis).
+//
+// The centre tc is the ray's point nearest the axis line, t_axis =
+// -(vw.u)/(u.u) (vw: the origin's offset from the axis). For a ray at 45 deg
+// or more from the axis (u.u >= 1/2, so |dy| <= |u|) any side hit lies
+// within max(r0, r1) of the axis, hence within max(r0, r1) / |u| of t_axis
+// along the ray and within max(r0, r1) of y(t_axis) along the axis: at tc =
+// t_axis, |v| and |y0 - y(hit)| are of the shape's size. A ray nearer the
+// axis has t_axis ill-conditioned, far out or undefined (u = 0); it is
+// clamped into the slab -rim <= y <= h + rim, where the ray runs at most
+// (h + 2 rim) / |dy| <= 1.5 (h + 2 rim) and |v| is no larger than at any
+// side hit (|v + tr u| is convex in tr). So is every ray on a flat side
+// (|k| > 1): there the two nappes of the double cone lie within 2 r / |k|
+// of each other, a ray crosses both close together, and B^2 - AC cancels
+// unless y0 stays within the slab, where rk = r0 + k y0 is of the size of
+// the radii. Either way A, B, C have the size of the shape, whatever the
+// ray's distance and wherever it crosses the axis (the remedy Haines et al.
+// apply to spheres). The point nearest the base centre, used before, left
+// |v| and y0 of the size of h on long thin frustums: for h/r = 1e2..1e4,
+// C = v.v - rk^2 lost every digit of the radius (issue 10 class 1). What
+// remains is the rounding of the ray's position relative to the base,
+// eps |org - base|. (The slab is widened by rim so that a ray that passes
+// just outside it, within the pieces' overlap, is still solved at its own
+// nearest point, not one far along.)
+//
+// Where a piece ends, pieces overlap by `rim` = kRimRel (|org - base|_max +
+// h + max(r0, r1)): the magnitudes in the computation, so the overlap
+// follows the shape's size and the ray's distance, not where the shape
+// stands in the world (|base| in it made a unit cylinder at 1e5 10% fatter
+// at its caps; issue 10 class 3). Without it, rounding put a ray aimed at a
+// rim outside both pieces: 10-15% of such rays passed through the closed
+// solid (tests/test_shapes.cpp, *CapRimNoCrack). Cracks show at 2^-24 and
+// vanish from 2^-23 on; 2^-20 keeps an 8x margin and stays 16x inside the
+// band of the tests (2^-16 of the shape's size plus the ray's distance).
+// The side's end is tested where it is well conditioned: along the axis
+// (y in [-rim, h + rim]) and, for a flat side (|k| > 1: Shape::c.z = 2), also
+// radially (|v + tr u| in [min r - rim, max r + rim]): a flat side is
+// crossed at y known to eps |org - base| but at a radius known only to
+// |k| times that, so a rim slack along the axis overhung a flat ring's rim
+// radially by |k| rim (rays through its hole hit the side; class 2).
+// Caps take |p_perp| <= rc + rim.
 constexpr float kRimRel = 1.0f / 1048576;
 
-// Finite cylinder / cone frustum. In the frame of the axis, with
-// v = perpendicular part of (org - base), u = perpendicular part of dir,
-// y(t) = y0 + t dy the axial coordinate and r(y) = r0 + k y (k = (r1-r0)/h):
-//   |v + t u|^2 = (r0 + k y(t))^2
-// gives A t^2 + 2 B t + C = 0 with
-//   A = u.u - k^2 dy^2,  B = u.v - k dy rk,  C = v.v - rk^2,  rk = r0 + k y0.
-// Roots by q = -(B + sign(B) sqrt(B^2 - AC)), t = q/A and C/q, which stays
-// exact when A -> 0 (ray parallel to a cone's side or to a cylinder's axis).
-// The quadratic is solved from the ray's point nearest the base centre,
-// t = tc (roots tr, t = tc + tr): its coefficients then have the size of the
-// shape, not of the distance to it, so B^2 - AC keeps its digits (the
-// remedy Haines et al. apply to spheres). Solved from the ray's origin, a
-// cylinder of radius 1 at 1e6 units, or of radius 1e-4 at 1 unit, lost all
-// of them (tests/test_shapes.cpp, Cylinder.FarAwayAndTiny).
-// Pieces of a frustum, in Hit::piece; Hit::local is the root tr (t = tc + tr).
+// Pieces of a frustum, in Hit::piece.
 enum : u8 { kPieceSide, kPieceBase, kPieceTop };
 
-// The ray in the axis frame, shared by hit_frustum() and frustum_normal() so
-// that the normal is computed from the very values the hit was.
+// The ray in the axis frame (above).
 struct FrustumFrame {
-  Vec3 oc0, v, u;
-  float tc, y0, dy, k;
+  Vec3 v, u;
+  float tc, y0, dy, k, uu, rim;
 };
 
-inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
+__attribute__((always_inline)) inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
   FrustumFrame f;
   Vec3 axis = s.b;
-  f.oc0 = ray.org - s.a;
-  f.tc = -dot(f.oc0, ray.dir);
-  Vec3 oc = f.oc0 + ray.dir * f.tc;
-  f.y0 = dot(oc, axis);
+  Vec3 w = ray.org - s.a;
+  float yw = dot(w, axis);
   f.dy = dot(ray.dir, axis);
-  f.v = oc - axis * f.y0;
+  Vec3 vw = w - axis * yw;
   f.u = ray.dir - axis * f.dy;
+  f.uu = dot(f.u, f.u);
+  f.rim = kRimRel * (max_abs_bits(w) + s.c.y);
+  float tc = -dot(vw, f.u) / f.uu;
+  if (!(f.uu >= s.c.z)) {
+    // Near the axis (|dy| > 0.7: the slab is short), or a flat side (c.z =
+    // 2, always). Written so that a NaN t_axis (u = 0) ends at the slab's
+    // lower end: rt_max(NaN, lo) is lo.
+    float ta = (-f.rim - yw) / f.dy, tb = (s.h + f.rim - yw) / f.dy;
+    tc = rt_min(rt_max(tc, rt_min(ta, tb)), rt_max(ta, tb));
+  }
+  f.tc = tc;
+  f.v = vw + f.u * tc;
+  f.y0 = yw + f.dy * tc;
   f.k = s.c.x;
   return f;
 }
 
 bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   FrustumFrame f = frustum_frame(s, ray);
-  Vec3 oc0 = f.oc0, v = f.v, u = f.u;
+  Vec3 v = f.v, u = f.u;
   float tc = f.tc, y0 = f.y0, dy = f.dy, k = f.k;
   float rk = s.r0 + k * y0;
-  float A = dot(u, u) - k * k * dy * dy;
+  float A = f.uu - k * k * dy * dy;
   float B = dot(u, v) - k * dy * rk;
   float C = dot(v, v) - rk * rk;
   bool found = false;
-  float scale = max_abs_bits(oc0) + s.c.y;
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
@@ -176,8 +221,14 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     for (float tr : roots) {
       float t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
-      float y = y0 + tr * dy, rim = kRimRel * (scale + abs_bits(tr));
+      float y = y0 + tr * dy, rim = f.rim;
       if (y < -rim || y > s.h + rim) continue;
+      if (s.c.z > 1) { // flat side: its ends radially
+        Vec3 pPerp = v + u * tr;
+        float rho2 = dot(pPerp, pPerp), lo = rt_min(s.r0, s.r1) - rim,
+              hi = rt_max(s.r0, s.r1) + rim;
+        if (rho2 < lo * abs_bits(lo) || rho2 > hi * hi) continue;
+      }
       found |= accept(t, tMin, kPieceSide, tr, hit);
     }
   }
@@ -189,7 +240,7 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
       float tr = (yc - y0) / dy, t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
       Vec3 pPerp = v + u * tr;
-      float rr = rc + kRimRel * (scale + abs_bits(tr));
+      float rr = rc + f.rim;
       if (dot(pPerp, pPerp) > rr * rr) continue;
       found |= accept(t, tMin, cap ? kPieceTop : kPieceBase, tr, hit);
     }
@@ -197,19 +248,31 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return found;
 }
 
+// Outward normal of the side: the gradient of |p_perp|^2 - r(y)^2 on the
+// surface, p_perp - k r(y) axis, with r(y) taken as |p_perp| (equal there),
+// i.e. the direction of p_perp - k |p_perp| axis: it depends on the azimuth
+// alone, also next to a cone's apex where r(y) = r0 + k y is a difference of
+// rounded numbers that may even come out negative (the mirror nappe, whose
+// normal points the other way). p_perp is the perpendicular part of the hit
+// point relative to the base, (org - base) + t dir: rounding eps
+// (|org - base| + t), as the solve's own. Within the domain |p_perp|^2 <=
+// 2^67 and the normal's square <= 2^107; a hit from beyond it is rescaled
+// first. At the apex itself p_perp = 0 and the surface has no normal: the
+// fallback is the axis (the apex's end).
 void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 axis = s.b;
   if (hit.piece != kPieceSide) {
     face(hit.piece == kPieceTop ? axis : -axis, ray, hit);
     return;
   }
-  FrustumFrame f = frustum_frame(s, ray);
-  float tr = hit.local, y = f.y0 + tr * f.dy;
-  // Outward normal: gradient of |p_perp|^2 - r(y)^2, i.e. p_perp - k r(y) axis.
-  // At a cone's apex p_perp = 0 and r = 0: the gradient vanishes, so the
-  // fallback is the axis direction (the apex's cap side).
-  Vec3 pPerp = f.v + f.u * tr;
-  face(normalize(pPerp - axis * (f.k * (s.r0 + f.k * y)), axis), ray, hit);
+  Vec3 q = ray.org - s.a + ray.dir * hit.t;
+  Vec3 pPerp = q - axis * dot(q, axis);
+  float rho2 = dot(pPerp, pPerp);
+  if (!(rho2 <= 1e20f)) {  // only from beyond the domain: keep |n|^2 from overflowing
+    pPerp = pPerp * (1.0f / max_abs(pPerp));
+    rho2 = dot(pPerp, pPerp);
+  }
+  face(normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis), ray, hit);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -264,6 +327,7 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   case kCylinder:
   case kCone: return hit_frustum(s, ray, tMin, hit);
   case kTriangle: return hit_triangle(s, ray, tMin, hit);
+  case kEmpty: return false;
   }
   return false;
 }
@@ -271,10 +335,11 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
   switch (s.kind) {
   case kSphere: sphere_normal(s, ray, hit); return;
-  case kPlane: face(s.a, ray, hit); return;
+  case kPlane: plane_normal(s, hit); return;
   case kCylinder:
   case kCone: frustum_normal(s, ray, hit); return;
   case kTriangle: face(normalize(s.n), ray, hit); return;
+  case kEmpty: return;
   }
 }
 
@@ -282,31 +347,4 @@ bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if (!intersect_t(s, ray, tMin, hit)) return false;
   hit_normal(s, ray, hit);
   return true;
-}
-
-void shape_bound(const Shape& s, Vec3& centre, float& radius) {
-  switch (s.kind) {
-  case kSphere:
-    centre = s.a;
-    radius = s.r0;
-    break;
-  case kPlane:
-    centre = v3(0.0f);
-    radius = kHuge;
-    return;
-  case kCylinder:
-  case kCone: {
-    // Centre on the axis at mid-height; the farthest points are the rims.
-    centre = s.a + s.b * (0.5f * s.h);
-    float half2 = 0.25f * s.h * s.h;
-    radius = rt_sqrt(half2 + rt_max(s.r0 * s.r0, s.r1 * s.r1));
-    break;
-  }
-  case kTriangle: {
-    centre = (s.a + s.b + s.c) * (1.0f / 3);
-    radius = rt_max(length(s.a - centre), rt_max(length(s.b - centre), length(s.c - centre)));
-    break;
-  }
-  }
-  radius += kBoundPad * (radius + max_abs(centre));
 }

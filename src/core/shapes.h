@@ -1,18 +1,73 @@
 // shapes.h - the closed set of shapes rt64k's scenes use, as tagged structs.
 //
-// THE INTERSECTION CONTRACT (every shape, no exceptions):
-//   * ray.dir has unit length; ray.org is finite.
+// THE INTERSECTION CONTRACT. eps = 2^-24 (float's unit roundoff). For a
+// shape, R = Shape::size, the radius of its bounding ball (0 for a plane);
+// for a ray, D = the distance from its origin to that ball's centre (for a
+// plane, to its stored point b). No bound below involves the world's
+// magnitude (where the shape stands), only R and D.
+//
+// DOMAIN. Builders (make_*) accept:
+//   * coordinates |x| <= kMaxCoord = 2^32; sphere radius, frustum height and
+//     larger radius in [kMinSize, kMaxCoord] = [2^-32, 2^32];
+//   * frustum: radii >= 0, not both 0, height / larger radius in
+//     [kMinAspect, kMaxAspect] = [2^-20, 2^20]; a cap of radius 0 (a cone's
+//     apex) is dropped; a nonzero finite axis (any length);
+//   * plane: a nonzero finite normal (any length), |offset| <= kMaxCoord;
+//   * triangle: cross(b - a, c - a), computed in double, with its largest
+//     component a normal float (>= 2^-126): not collinear, however thin.
+// Anything else (zero, negative, NaN or Inf sizes, zero axis or normal,
+// collinear vertices, out of range) gives a shape of kind kEmpty: no ray
+// hits it and a scene gives it no bound. No degenerate shape is hit with a
+// NaN or an invented normal. Within the domain every square and product the
+// solvers form stays far inside float's range.
+//
+// FOR EVERY RAY with finite origin and unit direction (to float precision):
 //   * intersect() reports the nearest hit with  tMin < t < hit.t  (hit.t holds
 //     the current nearest distance on entry, kHuge for "none yet"), and then
 //     overwrites hit.t, hit.normal and hit.front (and piece, local); otherwise
 //     it leaves hit alone.
-//   * hit.normal is unit length and faces the incoming ray: dot(normal, dir) <= 0.
-//   * hit.front is true when the ray arrives from outside the solid (or from
-//     the side the plane/triangle normal points to).
-//   * Nothing here returns NaN or Inf: degenerate rays (parallel to a plane,
-//     along a cylinder's axis, through a cone's apex) either miss or hit finitely.
-// Rays spawned from a hit point must start at spawn_origin() so that they do
-// not find the surface they leave (self-intersection, "shadow acne").
+//   * hit.t and hit.normal are finite and |hit.normal| = 1 (to 1e-6), also
+//     for origins far beyond the domain (tested from 1e12 .. 1e38 away);
+//     NaN or Inf rays never hit.
+//   * hit.normal is the outward normal if hit.front, else its negation;
+//     hit.front is true when the ray arrives from outside the solid (or from
+//     the side the plane/triangle normal points to). So the normal faces the
+//     ray: exactly outside the band (hit.front is exact there), and within
+//     4 eps of perpendicular (dot(normal, dir) <= 4 eps) inside it.
+//
+// ACCURACY, against the exact answer for the stored shape and the very float
+// ray (tests/test_shapes_hard.cpp: a long double oracle without tolerances,
+// itself checked against __float128; 1e5 rays per class and kind):
+//   * THE BAND: rays whose exact answer (hit or miss, the piece hit, the
+//     side) flips when the origin moves by at most 2^-16 (R + D), or that
+//     cross a piece within 2^-16 (R + D) / |cos| of its boundary (a rim, a
+//     side's end, a triangle's edge), or pass within 2^-16 (R + D) of a
+//     cone's apex: tangent, rim, edge and apex rays. Float rounding of the
+//     ray relative to the shape alone is eps (R + D); inside the band the
+//     answer is rounding's to pick (still under the guarantees above).
+//   * Outside the band (sphere, frustum, triangle): hit/miss, the piece
+//     (frustum side or cap) and hit.front are exact;
+//     |t - t_exact| <= 64 eps (R + D) kappa, kappa = 1 / |cos| of the
+//     incidence at the exact hit (the crossing's condition number; measured
+//     at most 32); the normal is within 64 eps (1 + (R + D) kappa / rho)
+//     rad of the exact one, rho the radius of curvature there (frustum
+//     side: its radius at the hit; sphere: R; caps, triangles: no term), as
+//     a point off by the t error along the surface turns the normal by that
+//     over rho (measured at most 6).
+//   * Plane: no band (t is continuous in the origin). hit/miss and
+//     hit.front exact for |cos| >= 2^-48; |t - t_exact| <= 2^-23 |t_exact| +
+//     e (|t_exact| + D) / |cos|, e = 2^-22 for |cos| >= 2^-12 (cos and the
+//     distance in float) and 2^-50 below (in double); measured at most 0.5
+//     of it.
+//   * A cone's apex has no normal: a hit exactly there gets the axis.
+// Tested over: frustums of every kind and cap combination with random axes,
+// h/r 0.005 .. 200 (ordinary), 1e2 .. 1e4 (long thin), 1e-3 .. 1e-1 (flat),
+// at 1e2 .. 1e5 from the world origin (far); every kind at sizes 2^-28 ..
+// 2^29 anywhere within 2^31 of the origin, rays from 0.5 .. 4096 R away;
+// planes within 1e-13 .. 1 of parallel, 1e5 from the origin.
+//
+// SPAWNED RAYS must start at spawn_origin() so that they do not find the
+// surface they leave (self-intersection, "shadow acne"): see spawn_offset().
 //
 // LEAVING FOR GOOD: every shape is flat (plane, triangle) or a convex solid
 // (sphere, closed frustum), or lies on the boundary of its convex hull (the
@@ -33,28 +88,47 @@ struct Hit {
   float t;
   Vec3 normal;
   bool front;
-  u8 piece;     // intersect_t(): which piece of the shape (frustum: side, base, top cap)
-  float local;  // intersect_t(): the shape's own parameter of the hit, for hit_normal()
+  u8 piece;     // intersect_t(): which piece (frustum: side, base, top cap; plane: 1 = front)
+  float local;  // intersect_t(): the shape's own parameter of the hit (frustum: the root tr)
 };
 
-enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle };
+enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle, kEmpty };
+
+// The builders' domain (THE INTERSECTION CONTRACT above). 2^32 keeps every
+// square and product of the solvers (|org - anchor|^2, r^2, k^2 dy^2 rk^2)
+// between 2^-90 and 2^100, far from float's limits (2^-126, 2^128); a
+// frustum's slope k = (r1 - r0) / h then stays within 2^20.
+constexpr float kMaxCoord = 4294967296.0f;       // 2^32
+constexpr float kMinSize = 1.0f / 4294967296.0f; // 2^-32
+constexpr float kMinAspect = 1.0f / 1048576;     // height / larger radius >= 2^-20
+constexpr float kMaxAspect = 1048576.0f;         // height / larger radius <= 2^20
+constexpr float kFloatMin = 1.17549435e-38f;     // smallest normal float, 2^-126
+constexpr float kFloatMax = 3.40282347e+38f;
 
 // Cap flags for cylinders and cones.
 enum : u8 { kCapBase = 1, kCapTop = 2 };
 
 // One shape. Field meaning by kind:
 //   kSphere:   a = centre, r0 = radius.
-//   kPlane:    a = unit normal, r0 = offset: the plane is {p : dot(a, p) = r0}.
+//   kPlane:    a = unit normal, r0 = offset, b = r0 a (rounded): the plane is
+//              {p : dot(a, p - b) = 0}, through b.
 //   kCylinder, kCone ("frustum"): a = centre of the base disc, b = unit axis
 //              from base towards top, r0 = base radius, r1 = top radius
 //              (cylinder: r1 = r0; full cone: r1 = 0, the apex), h = height,
 //              caps = which discs are closed. Radius varies linearly along the axis.
 //              make_cone() also stores constants of the solver: c.x = slope
-//              (r1 - r0) / h, c.y = max_abs(a) + h + r0 + r1 (the shape's
-//              magnitude, in its rim tolerance).
+//              k = (r1 - r0) / h, c.y = h + max(r0, r1) (the shape's size in
+//              its rim tolerance), c.z = 2 when |k| > 1 (a flat side: the
+//              solve is always centred within the slab and the side's ends
+//              are tested radially), else 0.5 (the least u.u of a ray that
+//              is solved from its point nearest the axis; shapes.cpp).
 //   kTriangle: a, b, c = vertices; front side is where cross(b-a, c-a) points.
 //              make_triangle() also stores n = cross(b-a, c-a) and
-//              sideMargin = kSideRel * max_abs(b-a) * max_abs(c-a) (below).
+//              sideMargin = kSideRel * max_abs(b-a) * max_abs(c-a) (below),
+//              both times the power of two that puts max_abs(n) in [1, 2).
+//   kEmpty:    no fields; no ray hits it.
+// size (every kind): R of the contract, the radius of the shape's bounding
+// ball (0 for a plane); it scales the spawn offset.
 struct Shape {
   ShapeKind kind;
   u8 caps;
@@ -62,6 +136,7 @@ struct Shape {
   float r0, r1, h;
   Vec3 n;
   float sideMargin;
+  float size;
 };
 
 // A triangle is skipped before the watertight test when the ray starts on
@@ -72,6 +147,10 @@ struct Shape {
 // margin, so a ray the test skips starts at least that far off the plane,
 // where the watertight test cannot find a hit at t > 0 either. Only for tMin >= 0.
 constexpr float kSideRel = 1.0f / 65536;
+
+// hit_plane() computes the cosine a.dir in float where |cos| >= this, in
+// double nearer parallel (shapes.cpp gives the error analysis).
+constexpr float kPlaneCosFloat = 1.0f / 4096;
 
 Shape make_sphere(Vec3 centre, float radius);
 Shape make_plane(Vec3 normal, float offset);
@@ -94,16 +173,27 @@ void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
 void shape_bound(const Shape& s, Vec3& centre, float& radius);
 constexpr float kBoundPad = 1.0f / 1024;
 
-// Offset of a spawned ray's origin from the surface along the normal, scaled
-// by the magnitude of the hit point: float's relative rounding error is 2^-24
-// per operation; the quadratic solvers accumulate a few hundred ulps at worst
-// (grazing hits on cones, measured by the property tests), so 2^-12 relative
-// plus an absolute floor for points near the origin keeps every spawned ray
-// off its own surface with margin. At the scenes' scale (|p| < 30) the offset
-// is below 0.008, far under a pixel's footprint.
-constexpr float kSpawnRel = 1.0f / 4096;
-constexpr float kSpawnAbs = 1.0f / 4096;
-inline float spawn_offset(Vec3 p) { return kSpawnAbs + kSpawnRel * max_abs(p); }
+// Offset of a spawned ray's origin from the surface along the normal. The
+// hit point p = org + dir t, as the tracer computes it, is off the surface
+// by (a) its rounding to float coordinates, at most eps sqrt(3) max_abs(p),
+// which the offset's own addition repeats, and (b) the solver's error along
+// the normal, a few eps (R + D) (THE INTERSECTION CONTRACT; D <= t + R). So
+// the offset is kSpawnPos max_abs(p) (8 eps: 2.3x the 2 sqrt(3) eps of (a))
+// plus kSpawnRel (R + t), with `scale` = R + t from spawn_scale(): relative
+// to what the error scales with, the shape's size and the ray's length, and
+// to the world's magnitude only through the rounding of p itself. Measured
+// over every hit of tests/test_shapes_hard.cpp, band included: a hit point
+// lies at most 0.15 of this offset off its surface. At the scenes' scale
+// (max_abs(p) < 30, R + t < 40) it is below 6e-4; glass of radius 1 at 1e5
+// from the origin gets 0.05 (the old 2^-12 max_abs(p) gave 24, more than
+// the radius: refraction rays started outside the solid, issue 10 class 5).
+constexpr float kSpawnPos = 1.0f / 2097152; // 2^-21 = 8 eps
+constexpr float kSpawnRel = 1.0f / 65536;   // 2^-16
+inline float spawn_offset(Vec3 p, float scale) {
+  return kSpawnPos * max_abs(p) + kSpawnRel * scale;
+}
+// The scale of a hit's error: the shape's size plus the ray's length to it.
+inline float spawn_scale(const Shape& s, const Hit& hit) { return s.size + hit.t; }
 
 // True when a ray leaving `hit` (a hit on s, normal facing the incoming ray)
 // in direction dir cannot meet s again (LEAVING FOR GOOD above). The outward
@@ -115,8 +205,8 @@ inline bool leaves_for_good(const Shape& s, const Hit& hit, Vec3 dir) {
 }
 
 // Origin for a ray leaving hit point p (with ray-facing unit normal n) in
-// direction dir: pushed to the side of the surface that dir goes to.
-inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir) {
-  float off = spawn_offset(p);
-  return p + n * (dot(dir, n) >= 0 ? off : -off);
+// direction dir: pushed by `offset` (spawn_offset() of the hit, computed
+// once per hit) to the side of the surface that dir goes to.
+inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir, float offset) {
+  return p + n * (dot(dir, n) >= 0 ? offset : -offset);
 }

@@ -116,7 +116,11 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
   float NdotH = rt_clamp(dot(N, H), 0.0f, 1.0f);
   float NdotV = rt_max(dot(N, V), kCosEps);
   float NdotL = rt_max(dot(N, L), 0.0f);
-  float VdotH = rt_max(dot(V, H), kCosEps);
+  // V.H = |V + L| / 2 >= (N.V + N.L) / 2 (the length of V + L is at least its
+  // component along N): an identity, so this floor only undoes rounding. It
+  // keeps G's ratios <= 2 and the returned F D G / (N.V), times N.L, below
+  // 4 F D for every V and L (trace.h, above kCosEps).
+  float VdotH = rt_max(dot(V, H), 0.5f * (NdotV + NdotL));
   float x = 1.0f - VdotH, x2 = x * x;
   float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);
   float c2 = NdotH * NdotH, m2 = m.roughness * m.roughness;
@@ -153,7 +157,8 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   Vec3 N = hit.normal, V = -ray.dir;
   Vec3 p = ray.org + ray.dir * hit.t;
   Vec3 color = s.ambient * m.color;
-  Vec3 lightOrg = spawn_origin(p, N, N);
+  float off = spawn_offset(p, spawn_scale(obj.shape, hit));
+  Vec3 lightOrg = spawn_origin(p, N, N, off);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
     Vec3 toLight = light.pos - lightOrg;
@@ -197,7 +202,7 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
     Vec3 R = reflect(ray.dir, N);
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, R), R}, depth + 1, weight * m.reflect,
+    color += trace(ctx, Ray{spawn_origin(p, N, R, off), R}, depth + 1, weight * m.reflect,
                    leaves_for_good(obj.shape, hit, R) ? self : 0) *
              m.reflect;
   }
@@ -213,7 +218,7 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, T), T}, depth + 1, weight * m.transmit,
+    color += trace(ctx, Ray{spawn_origin(p, N, T, off), T}, depth + 1, weight * m.transmit,
                    leaves_for_good(obj.shape, hit, T) ? self : 0) *
              m.transmit;
   }

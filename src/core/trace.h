@@ -97,9 +97,25 @@ void render_full_rows(const Scene& scene, u32* fb, int width, int height, int st
                       int rowBegin, int rowEnd, RayStats* stats);
 
 // Constants of the shading model, named for the tests and docs.
-// kCosEps: floor of N.V and V.H in Cook-Torrance, so 1/(N.V) and 1/(V.H)
-// stay finite at grazing angles. 1e-4 is cos(89.994 deg): the clamp only
-// acts within 0.006 deg of grazing, where G has already driven the term to 0.
+// kCosEps: floor of N.V in Cook-Torrance, so 1/(N.V) stays finite for a
+// view ray that grazes the surface (1e-4 is cos(89.994 deg)). There G <=
+// 2 (N.H)(N.V)/(V.H) cancels the 1/(N.V) unless N.L is as small.
+//
+// V.H: with H the half vector, V.H = |V + L| / 2 >= (N.V + N.L) / 2, so
+// V.H -> 0 only when V and L are nearly opposite, i.e. both graze the
+// surface from opposite sides: the mirror configuration at grazing.
+// There the model's own limit holds and is kept: G -> 1 (Torrance-Sparrow's
+// V-groove G, which Cook & Torrance 1982 use and SPEC prescribes, masks no
+// microfacet parallel to the surface, and H -> N selects those), Schlick's
+// F -> 1, D is at its peak: the term F D G / (N.V), times N.L, tends to
+// F D (N.L / N.V), and for every V, L above the surface it is at most 4 F D
+// (G N.L / N.V <= 2 (N.H) N.L / (V.H) <= 4 N.L / (N.V + N.L) <= 4): a bright
+// but bounded glint, the grazing specular reflection that Fresnel makes
+// strong. (Walter et al. 2007, who write the BRDF as F G D / (4 |N.L||N.V|),
+// likewise put V.H only in F and G, never in a denominator of their own; a
+// Smith G, which they prefer, would dim this glint further, but is not the
+// thesis's model.) V.H is floored at (N.V + N.L) / 2, the identity above,
+// which removes only rounding: no clamp changes the physics.
 constexpr float kCosEps = 1e-4f;
 // kCos2Min: the Beckmann D is taken as 0 where (N.H)^2 <= 1e-4 (the half
 // vector beyond 89.4 deg from N): there its exponent -(1 - c^2) / (c^2 m^2)

@@ -97,15 +97,22 @@ void sphere_lanes(const PrimaryTerms& p, int i, const Dirs& d, f4 b, u32 lanes, 
   st.take(ok, t, i);
 }
 
-// hit_plane from the terms.
+// hit_plane from the terms, in float for lanes with |cos| >= kPlaneCosFloat
+// (piece: 1 when the ray comes against the normal); the lanes nearer
+// parallel take hit_plane's double path through the scalar test.
 void plane_lanes(const Scene& s, const PrimaryTerms& p, int i, const Dirs& d, u32 lanes,
                  Nearest& st) {
-  Vec3 n = s.objects[i].shape.a;
+  const Shape& sh = s.objects[i].shape;
+  Vec3 n = sh.a;
   f4 zero = f4_of(0.0f);
-  f4 denom = n.x * d.v[0] + n.y * d.v[1] + n.z * d.v[2];
-  f4 t = p.shapeC[i] / denom;
-  i4 ok = lanes_of(lanes) & (denom != zero) & (t > zero) & (t < st.t);
+  f4 c = n.x * d.v[0] + n.y * d.v[1] + n.z * d.v[2];
+  i4 inFloat = lane_abs(c) >= f4_of(kPlaneCosFloat);
+  u32 nearParallel = lanes & ~lane_bits(inFloat);
+  f4 t = p.shapeC[i] / c;
+  i4 ok = lanes_of(lanes) & inFloat & (t > zero) & (t < st.t);
   st.take(ok, t, i);
+  st.piece = ok ? (i4)(c < zero) & i4_of(1) : st.piece;
+  if (nearParallel) scalar_lanes(sh, p.org, d, nearParallel, i, st);
 }
 
 // The watertight test's axis order (hit_triangle): kz the direction's

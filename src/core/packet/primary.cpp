@@ -40,7 +40,7 @@ void primary_terms(const Scene& s, Vec3 org, PrimaryTerms& p) {
       p.r2[i] = r2;
       p.shapeC[i] = dot(f, f) - r2;
     } else if (sh.kind == kPlane) {
-      p.shapeC[i] = sh.r0 - dot(sh.a, org); // hit_plane's numerator
+      p.shapeC[i] = dot(sh.a, sh.b - org); // hit_plane's numerator (float path)
     } else if (sh.kind == kTriangle) {
       // hit_triangle: the side test's origin terms and A3, B3, C3.
       Vec3 ao = org - sh.a;

@@ -25,7 +25,7 @@ struct PrimaryTerms {
   // packets of four rays: splat[i] = {fx x4, fy x4, fz x4, c x4}.
   alignas(16) float splat[kMaxObjects][4][4];
   // Per shape i. Sphere: shapeC = |f|^2 - r^2 with the f above (a sphere's
-  // bound has its centre), r2 = r^2. Plane: shapeC = offset - normal.org.
+  // bound has its centre), r2 = r^2. Plane: shapeC = normal.(point - org).
   // Triangle: vert = its vertices a, b, c minus org; side = n.(org - a);
   // bit i of sideFar set when |side| > sideMargin * max|org - a|
   // (hit_triangle's kSideRel test: a ray pointing away from the plane

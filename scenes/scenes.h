@@ -12,14 +12,21 @@ constexpr float kTimelineSeconds = 2 * kSceneSeconds;
 void build_scene1(Scene& s, float t);
 void build_scene2(Scene& s, float t);
 
+// The objects that never move, stored as the Shapes their builders give
+// (scenes.cpp names each builder call; tests/test_scenes.cpp checks them
+// bit for bit): intro.exe then needs no plane or triangle builder.
+extern const Shape kLowerCone; // scene 1's lower cone
+extern const Shape kFloor;     // scene 1's floor
+extern const Shape kStage[2];  // scene 2's two triangles
+
 // Maps any finite time onto [0, kTimelineSeconds): the timeline loops forever
 // (negative times count back from the loop's end). Non-finite input gives 0.
 float timeline_wrap(double t);
 
 struct TimelineState {
-  int scene;         // 1 or 2
-  float sceneTime;   // [0, kSceneSeconds)
-  bool showBlocks;   // the renderer-visualisation segment of scene 2
+  int scene;       // 1 or 2
+  float sceneTime; // [0, kSceneSeconds)
+  bool showBlocks; // the renderer-visualisation segment of scene 2
 };
 TimelineState timeline_state(double t);
 

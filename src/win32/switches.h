@@ -50,3 +50,9 @@
 #ifndef RT64K_BENCH
 #define RT64K_BENCH 1
 #endif
+
+// Ray packets (src/core/packet/) are a build switch, not a macro, because
+// they choose source files: the CMake cache variable RT64K_PACKETS of
+// src/win32/CMakeLists.txt, OFF in the shipped exe (src/core/scalar/ traces
+// the same primary rays one at a time; docs/win32.md "Ray packets in
+// intro.exe" has the bytes and the instructions of both).

@@ -173,6 +173,7 @@ row "without -Wl,--gc-sections (+ -lwinmm)" gc \
 row "without --disable-reloc-section (relocations, ASLR on)" reloc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--disable-reloc-section -Wl,--disable-dynamicbase -Wl,--disable-high-entropy-va)"
 # Features (src/win32/switches.h), one switched off at a time.
+row "with ray packets (src/core/packet/ instead of src/core/scalar/)" packets -DRT64K_PACKETS=ON
 row "feature off: adaptive renderer (every pixel traced)" no_adaptive -DRT64K_FEATURES=RT64K_ADAPTIVE=0
 row "feature off: music (synth, waveOut, winmm, /mute)" no_music -DRT64K_FEATURES=RT64K_MUSIC=0
 row "feature off: /f fullscreen" no_fullscreen -DRT64K_FEATURES=RT64K_FULLSCREEN=0

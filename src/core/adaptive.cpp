@@ -242,9 +242,22 @@ int states_as_samples(int states) {
 }
 
 // The caller's buffer: the lines of corners (gridH x width samples), then
-// each band's scratch, then one state byte per sample of both.
+// each band's scratch, then one state byte per sample of both, then the
+// bands' queue (Queue: two counters, then a done flag per band).
 int sample_slots(const AdaptiveFrame& f) {
   return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
+}
+
+struct Queue {
+  i32 nextEven, nextOdd; // the next band of each parity to hand out
+  u8 done[1];            // [bands]: 1 once the band has run
+};
+
+int queue_bytes(int bands) { return (int)sizeof(Queue) + bands; }
+
+Queue* queue(const AdaptiveFrame& f) {
+  int samples = sample_slots(f);
+  return (Queue*)(f.corners + samples + states_as_samples(samples));
 }
 
 Edge line_edge(const AdaptiveFrame& f, int k) {
@@ -409,8 +422,8 @@ void process_group(Context& c, Node* nodes, int count) {
   c.used = used;
 }
 
-// Line k of corners is traced by one band next to it: an even band (phase
-// 0), or the last band when only that odd band touches it.
+// Line k of corners is traced by one band next to it: an even band, or the
+// last band when only that odd band touches it.
 int line_owner(int k, int bands) {
   if (k % 2 == 0) return k < bands ? k : k - 1;
   return k - 1;
@@ -575,20 +588,48 @@ int adaptive_corner_count(int width, int height, int baseBlock) {
   f.baseBlock = baseBlock;
   f.gridH = grid_count(height, baseBlock);
   int samples = sample_slots(f);
-  return samples + states_as_samples(samples);
+  return samples + states_as_samples(samples) + states_as_samples(queue_bytes(f.gridH - 1));
 }
 
 void adaptive_begin(AdaptiveFrame& f) {
   f.cam = camera_rays(*f.scene, f.width, f.height);
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
+  Queue* q = queue(f);
+  q->nextEven = 0;
+  q->nextOdd = 1;
+  for (int b = 0; b < f.gridH - 1; ++b)
+    q->done[b] = 0;
 }
 
-int adaptive_items(const AdaptiveFrame& f, int phase) {
+int adaptive_items(const AdaptiveFrame& f) { return f.gridH - 1; }
+
+// The done flags are stored with release order after the band's last write
+// and loaded with acquire order before an odd band starts: what the even
+// bands wrote on the shared lines is visible to the odd band that reads it.
+int adaptive_take(const AdaptiveFrame& f) {
+  Queue* q = queue(f);
   int bands = f.gridH - 1;
-  return phase == 0 ? (bands + 1) / 2 : bands / 2;
+  for (;;) {
+    i32 odd = __atomic_load_n(&q->nextOdd, __ATOMIC_RELAXED);
+    if (odd < bands && __atomic_load_n(&q->done[odd - 1], __ATOMIC_ACQUIRE) &&
+        (odd + 1 == bands || __atomic_load_n(&q->done[odd + 1], __ATOMIC_ACQUIRE))) {
+      if (__atomic_compare_exchange_n(&q->nextOdd, &odd, odd + 2, false, __ATOMIC_RELAXED,
+                                      __ATOMIC_RELAXED))
+        return odd;
+      continue; // another thread took it: look again
+    }
+    // (Loaded first, so that the counter passes `bands` by at most one step
+    // per thread however long threads wait.)
+    if (__atomic_load_n(&q->nextEven, __ATOMIC_RELAXED) < bands) {
+      i32 even = __atomic_fetch_add(&q->nextEven, 2, __ATOMIC_RELAXED);
+      if (even < bands) return even;
+    }
+    return odd < bands ? kAdaptiveWait : kAdaptiveDone;
+  }
 }
 
-void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats) {
-  run_band(f, 2 * item + phase, stats);
+void adaptive_run(const AdaptiveFrame& f, int band, RayStats* stats) {
+  run_band(f, band, stats);
+  __atomic_store_n(&queue(f)->done[band], (u8)1, __ATOMIC_RELEASE);
 }

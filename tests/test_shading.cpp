@@ -316,6 +316,33 @@ TEST(Shading, MissShowsBackgroundAndMirrorShowsItWeighted) {
   EXPECT_FLOAT_EQ(c.z, 0.3f);
 }
 
+// A shadow ray from inside a closed glass solid leaves it once without a
+// test (trace.cpp: transmittance's `exits`) only when the light is outside
+// the solid's bound. A ray along the axis of a glass sphere enters it at
+// z = 7 and meets its back at z = 13 from inside (the record's second
+// node). Light behind the camera: the back point's shadow ray crosses the
+// sphere's front, code 1 (one transparent object), the front point is lit
+// (code 0), and the colour is what the tested crossing gives. Light inside
+// the sphere: the back point sees it through no surface, code 0, and the
+// front point faces away from it (code 0).
+TEST(Shading, ShadowFromInsideGlassCrossesItsSurfaceOnlyForALightOutside) {
+  for (bool inside : {false, true}) {
+    Scene s = empty_scene(kPhong);
+    Material glass = make_mat(v3(0.9f, 0.95f, 1.0f), 0.3f, 0.5f, 20, 0.1f, 0.8f, 1.5f);
+    scene_add(s, make_sphere(v3(0, 0, 10), 3), glass);
+    scene_add_light(s, inside ? v3(0, 0.5f, 11) : v3(0, 0.5f, -20), v3(1));
+    PathRecord rec{};
+    TraceContext ctx{&s, {0, 0, 0}, &rec};
+    Vec3 c = trace(ctx, Ray{v3(0, 0, 0), v3(0, 0, 1)}, 1);
+    ASSERT_GE(rec.count, 2);
+    EXPECT_EQ(rec.node[0] & 31u, 1u); // the sphere, from outside
+    EXPECT_EQ(rec.node[1] & 31u, 1u); // the sphere, from inside
+    EXPECT_EQ(rec.node[0] >> 5 & 3u, 0u) << "inside " << inside;
+    EXPECT_EQ(rec.node[1] >> 5 & 3u, inside ? 0u : 1u) << "inside " << inside;
+    EXPECT_TRUE(c.x > 0 && c.y > 0 && c.z > 0);
+  }
+}
+
 TEST(Shading, RecursionStopsAtMaxDepth) {
   // Two facing mirrors: the ray would bounce forever; maxDepth ends it.
   for (int depth : {1, 2, 5, 8}) {

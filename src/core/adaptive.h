@@ -12,7 +12,10 @@
 // kGlassBlock (4) pixels, else split; and when a block splits, the midpoint
 // of a side whose ends have equal records and colours within
 // kEstimateContrast is estimated from them instead of traced
-// (adaptive_estimate; a pixel traced per pixel is always traced).
+// (adaptive_estimate; a pixel traced per pixel is always traced); and a
+// block of `minBlock` pixels whose corner colours span at most
+// kSmallContrast per channel is interpolated even where the records differ
+// (kModeAdaptive only).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
 // has exactly one writer and the picture is the same for any thread count.
@@ -60,7 +63,8 @@ struct AdaptiveFrame {
   u32* fb; // width x height, `stride` pixels per row
   int width, height, stride;
   int baseBlock; // 2..kMaxBaseBlock
-  int minBlock;  // >= 1; blocks this size or smaller are traced per pixel
+  int minBlock;  // >= 1; blocks this size or smaller are traced per pixel (or
+                 // interpolated when their corners' colours are close)
   AdaptiveMode mode;
   bool showBlocks;       // tint copied blocks red, interpolated ones blue
   CornerSample* corners; // caller-owned, adaptive_corner_count() entries: the samples

@@ -348,7 +348,9 @@ TEST(AdaptiveFrame, BandsQueueHandsOutEachBandOnceAfterItsNeighbours) {
             ASSERT_EQ(state[size_t(b)], 0) << "band " << b << " handed out twice";
             if (b % 2) {
               ASSERT_EQ(state[size_t(b - 1)], 2) << "band " << b;
-              if (b + 1 < bands) ASSERT_EQ(state[size_t(b + 1)], 2) << "band " << b;
+              if (b + 1 < bands) {
+                ASSERT_EQ(state[size_t(b + 1)], 2) << "band " << b;
+              }
             }
             state[size_t(b)] = 1;
             running.push_back(b);

@@ -343,6 +343,68 @@ TEST(Shading, ShadowFromInsideGlassCrossesItsSurfaceOnlyForALightOutside) {
   }
 }
 
+// Shadow rays are culled by bounds taken from the light's end of the
+// segment (trace.cpp: shadow_mask, Scene::lightFX..). Seeded scenes of four
+// opaque spheres over a floor and two lights (added before or after the
+// spheres): at 20,000 floor points the record's shadow code per light is 3
+// exactly when the segment to that light meets a sphere (in double; points
+// within 1e-3 of a tangent are skipped), else 0.
+TEST(Shading, ShadowCodesMatchSegmentSphereTestsInDouble) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  int checked = 0, shadowed = 0;
+  for (int sceneIndex = 0; sceneIndex < 20; ++sceneIndex) {
+    Scene s = empty_scene(kPhong);
+    Vec3 lights[2] = {v3(6 * u(rng), 6 + 3 * u(rng), 6 * u(rng)),
+                      v3(6 * u(rng), 4 + 2 * u(rng), 6 * u(rng))};
+    bool lightsFirst = sceneIndex % 2 == 0;
+    if (lightsFirst)
+      for (Vec3 l : lights)
+        scene_add_light(s, l, v3(1));
+    Vec3 centre[4];
+    float radius[4];
+    for (int i = 0; i < 4; ++i) {
+      centre[i] = v3(4 * u(rng), 1.5f + u(rng), 4 * u(rng));
+      radius[i] = 0.4f + 0.3f * u(rng);
+      scene_add(s, make_sphere(centre[i], radius[i]), diffuse_white());
+    }
+    scene_add_background(s, make_plane(v3(0, 1, 0), 0), diffuse_white());
+    if (!lightsFirst)
+      for (Vec3 l : lights)
+        scene_add_light(s, l, v3(1));
+    for (int k = 0; k < 1000; ++k) {
+      Vec3 ground = v3(6 * u(rng), 0, 6 * u(rng));
+      PathRecord rec{};
+      TraceContext ctx{&s, {0, 0, 0}, &rec};
+      trace(ctx, Ray{v3(ground.x, 20, ground.z), v3(0, -1, 0)}, 1);
+      if ((rec.node[0] & 31u) != 5u) continue; // a sphere is in the way: not the floor
+      for (int l = 0; l < 2; ++l) {
+        // The segment from the floor point to the light against each sphere.
+        double px = ground.x, py = 0, pz = ground.z;
+        double dx = lights[l].x - px, dy = lights[l].y - py, dz = lights[l].z - pz;
+        double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+        dx /= len, dy /= len, dz /= len;
+        bool blocked = false, near = false;
+        for (int i = 0; i < 4; ++i) {
+          double fx = px - centre[i].x, fy = py - centre[i].y, fz = pz - centre[i].z;
+          double b = fx * dx + fy * dy + fz * dz;
+          double perp2 = fx * fx + fy * fy + fz * fz - b * b;
+          double r = radius[i], gap = std::sqrt(std::max(perp2, 0.0)) - r;
+          if (std::fabs(gap) < 1e-3) near = true;
+          if (gap < 0 && -b > 0 && -b < len) blocked = true;
+        }
+        if (near) continue;
+        ++checked;
+        shadowed += blocked;
+        EXPECT_EQ(rec.node[0] >> (5 + 3 * l) & 3u, blocked ? 3u : 0u)
+            << "scene " << sceneIndex << " point " << ground.x << "," << ground.z << " light " << l;
+      }
+    }
+  }
+  EXPECT_GT(checked, 20000);
+  EXPECT_GT(shadowed, 1000);
+}
+
 TEST(Shading, RecursionStopsAtMaxDepth) {
   // Two facing mirrors: the ray would bounce forever; maxDepth ends it.
   for (int depth : {1, 2, 5, 8}) {

@@ -14,13 +14,12 @@ namespace {
 
 typedef float f4 __attribute__((vector_size(16)));
 
-// Bit i set: the ray may hit object i (of those in `range`) before tMax,
-// judged by its bounding sphere (conservative: a clear bit is a sure miss).
-// Four bounds per step with SSE. Per bound: f = org - centre, b = f.d,
-// c = |f|^2 - r^2; a miss when the ray passes beside (b^2 < c), or starts
-// outside (c > 0) and points away (b > 0) or reaches it beyond tMax.
-// kLimited = false: tMax is kHuge, which no bound reaches, so that test goes.
-template <bool kLimited> u32 bound_mask(const Scene& s, const Ray& ray, float tMax, u32 range) {
+// Bit i set: the ray may hit object i (of those in `range`), judged by its
+// bounding sphere (conservative: a clear bit is a sure miss). Four bounds
+// per step with SSE. Per bound: f = org - centre, b = f.d, c = |f|^2 - r^2;
+// a miss when the ray passes beside (b^2 < c), or starts outside (c > 0) and
+// points away (b > 0).
+u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
   u32 mask = s.unboundedMask & range;
   f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
   f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};
@@ -28,16 +27,36 @@ template <bool kLimited> u32 bound_mask(const Scene& s, const Ray& ray, float tM
   f4 dx = {ray.dir.x, ray.dir.x, ray.dir.x, ray.dir.x};
   f4 dy = {ray.dir.y, ray.dir.y, ray.dir.y, ray.dir.y};
   f4 dz = {ray.dir.z, ray.dir.z, ray.dir.z, ray.dir.z};
-  f4 tm = {tMax, tMax, tMax, tMax};
   f4 zero = {0, 0, 0, 0};
   for (int g = 0; g < kMaxObjects && (range >> g); g += 4) {
     f4 fx = ox - *(const f4*)(s.boundX + g), fy = oy - *(const f4*)(s.boundY + g);
     f4 fz = oz - *(const f4*)(s.boundZ + g);
     f4 b = fx * dx + fy * dy + fz * dz;
     f4 c = fx * fx + fy * fy + fz * fz - *(const f4*)(s.boundR2 + g);
-    auto away = b > zero;
-    if (kLimited) away |= -b - *(const f4*)(s.boundR + g) >= tm;
-    auto miss = (b * b < c) | ((c > zero) & away);
+    auto miss = (b * b < c) | ((c > zero) & (b > zero));
+    u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
+    mask |= (m << g) & range;
+  }
+  return mask;
+}
+
+// Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
+// may meet object i (of those in `range`) before the light, judged by its
+// bound (conservative, as bound_mask). The segment is taken from the light's
+// end, whose terms the scene holds (Scene::lightFX..): along -L from the
+// light, beta = f.L is minus bound_mask's b; a miss when the line passes
+// beside (beta^2 < c), or the light is outside the bound (c > 0) and the
+// segment points away from it (beta < 0) or ends before it (beta - R >= dist).
+u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist, u32 range) {
+  u32 mask = s.unboundedMask & range;
+  f4 lx = {L.x, L.x, L.x, L.x}, ly = {L.y, L.y, L.y, L.y}, lz = {L.z, L.z, L.z, L.z};
+  f4 tm = {dist, dist, dist, dist}, zero = {0, 0, 0, 0};
+  for (int g = 0; g < kMaxObjects && (range >> g); g += 4) {
+    f4 beta = *(const f4*)(s.lightFX[l] + g) * lx + *(const f4*)(s.lightFY[l] + g) * ly +
+              *(const f4*)(s.lightFZ[l] + g) * lz;
+    f4 c = *(const f4*)(s.lightC[l] + g);
+    auto miss = (beta * beta < c) |
+                ((c > zero) & ((beta < zero) | (beta - *(const f4*)(s.boundR + g) >= tm)));
     u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
     mask |= (m << g) & range;
   }
@@ -62,7 +81,7 @@ inline u32 range_mask(int begin, int end) {
 int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
   hit.t = kHuge;
   int found = -1;
-  u32 all = bound_mask<false>(s, ray, kHuge, range_mask(0, s.numObjects) & ~skip);
+  u32 all = bound_mask(s, ray, range_mask(0, s.numObjects) & ~skip);
   u32 foreground = range_mask(0, s.numForeground);
   for (u32 m = all & foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
@@ -85,13 +104,14 @@ int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
 // and the light lies outside it (trace_hit), so the ray leaves it exactly
 // once on the way; it stays in index order with the others, so the product
 // is the one the test would give.
-Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32 skip, u32 exits) {
+Vec3 transmittance(TraceContext& ctx, int light, Vec3 p, Vec3 L, float dist, int& code, u32 skip,
+                   u32 exits) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
   Ray ray{p, L};
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = bound_mask<true>(s, ray, dist, range_mask(0, s.numForeground) & ~skip); mask;
+  for (u32 mask = shadow_mask(s, light, L, dist, range_mask(0, s.numForeground) & ~skip); mask;
        mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;
@@ -212,7 +232,8 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       if (recordable || weight * max_abs(lit) >= kShadowSkip) {
         bool leaves = leaves_for_good(obj.shape, hit, L);
         bool exits = inside && !leaves && outside_bound(s, id, light.pos);
-        through = transmittance(ctx, lightOrg, L, dist, code, leaves ? self : 0, exits ? self : 0);
+        through =
+            transmittance(ctx, li, lightOrg, L, dist, code, leaves ? self : 0, exits ? self : 0);
       }
       bits = (u32)code;
       if (code != 3) {

@@ -249,15 +249,19 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   EXPECT_EQ(img.pixels, full.pixels); // flat colours on both sides: exact
 }
 
-// A block of the minimum size whose records differ is interpolated when its
-// corners' colours span at most kSmallContrast (8) / 255 per channel, else
-// traced per pixel: the straight edge of a flat triangle against a flat
-// background 6/255 apart is never traced (and the picture is within those
-// 6/255 of the full trace); 12/255 apart it is traced along its length, and
-// the copy-only mode traces it at any contrast.
-TEST(AdaptiveFrame, MinimumBlocksOfCloseColoursAreInterpolated) {
+// Small blocks whose records differ are interpolated when their corners'
+// colours span at most kSmallContrast per channel: 12/255 at the minimum
+// size (2 px), 6/255 up to twice it; else split down to 2 px and traced
+// per pixel. The straight edge of a flat triangle against a flat
+// background 5/255 apart is interpolated at 4 px, 10/255 apart at 2 px
+// (more samples), never traced, and within that contrast of the full
+// trace; 14/255 apart it is traced along its length; the copy-only mode
+// traces it at any contrast.
+TEST(AdaptiveFrame, SmallBlocksOfCloseColoursAreInterpolated) {
   constexpr int kN = 96;
-  for (int contrast : {6, 12}) {
+  uint64_t samples[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    int contrast = (const int[]){5, 10, 14}[k];
     for (Mode mode : {Mode::Adaptive, Mode::Copy}) {
       Scene s;
       base_scene(s);
@@ -274,23 +278,26 @@ TEST(AdaptiveFrame, MinimumBlocksOfCloseColoursAreInterpolated) {
       opt.threads = 1;
       opt.mode = mode;
       opt.kinds = kinds.data();
-      render_frame(s, img, opt, nullptr);
+      RayStats stats;
+      render_frame(s, img, opt, &stats);
       RenderOptions fo;
       fo.mode = Mode::Full;
       render_frame(s, full, fo, nullptr);
       size_t traced = 0;
-      for (uint8_t k : kinds)
-        traced += (k & kKindMask) == kTraced;
+      for (uint8_t kind : kinds)
+        traced += (kind & kKindMask) == kTraced;
       FrameError e = compare_images(full, img);
-      if (contrast <= 8 && mode == Mode::Adaptive) {
+      if (contrast <= 12 && mode == Mode::Adaptive) {
         EXPECT_EQ(traced, 0u) << "contrast " << contrast;
         EXPECT_LE(e.maxError, contrast);
+        samples[k] = stats.primary;
       } else {
         EXPECT_GE(traced, size_t(kN)) << "contrast " << contrast; // along the edge
         EXPECT_EQ(e.maxError, 0);
       }
     }
   }
+  EXPECT_LT(samples[0], samples[1]); // 4-px blocks interpolated: no 2-px split
 }
 
 // The bands' queue (adaptive_take): every band is handed out once; an odd
@@ -424,18 +431,18 @@ TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
 }
 
 // A side's midpoint is estimated from its ends when their records agree and
-// their colours are within 16/255 per channel: the rounded mean colour.
+// their colours are within 4/255 per channel: the rounded mean colour.
 TEST(AdaptiveEstimate, EqualRecordsAndCloseColours) {
   CornerSample a{}, b{}, mid{};
   a.path.count = b.path.count = 2;
   a.path.node[0] = b.path.node[0] = 3;
   a.path.node[1] = b.path.node[1] = 5 | 4 << 5;
   a.packed = 0xff102030u;
-  b.packed = 0xff203021u; // red +16, green +16, blue -15
+  b.packed = 0xff14242du; // red +4, green +4, blue -3
   ASSERT_TRUE(adaptive_estimate(a, b, mid));
-  EXPECT_EQ(mid.packed, 0xff182829u); // (16+32+1)/2 = 24, (32+48+1)/2 = 40, (48+33+1)/2 = 41
+  EXPECT_EQ(mid.packed, 0xff12222fu); // (16+20+1)/2 = 18, (32+36+1)/2 = 34, (48+45+1)/2 = 47
   EXPECT_TRUE(same_path(mid.path, a.path));
-  b.packed = 0xff213021u; // red +17: too far apart
+  b.packed = 0xff15242du; // red +5: too far apart
   EXPECT_FALSE(adaptive_estimate(a, b, mid));
   b.packed = 0xff000000u | (a.packed & 0xffffffu);
   b.path.node[1] = 5; // no highlight at b: another record

@@ -32,9 +32,11 @@ enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 // A side's midpoint is estimated instead of traced when the records at its
 // two ends are equal and no colour channel differs between them by more than
 // kEstimateContrast / 255: the midpoint takes their record and the rounded
-// mean of their colours. Measured in docs/speed-vs-error.md (-11 % samples;
-// without the contrast limit the flicker figure got worse).
-constexpr int kEstimateContrast = 16;
+// mean of their colours. Measured in docs/speed-vs-error.md: at 16 (issue 9's
+// first round) -11 % samples; at 4, with the small blocks' rule below, a
+// little more samples and less flicker than 16 (without a contrast limit
+// the flicker figure got worse).
+constexpr int kEstimateContrast = 4;
 
 // A block whose corners see a transparent object (at any recorded depth) is
 // copied or interpolated only when it is at most kGlassBlock pixels wide and
@@ -44,15 +46,16 @@ constexpr int kEstimateContrast = 16;
 constexpr int kGlassBlock = 4;
 
 // A block of the minimum size whose corners' records differ is traced per
-// pixel, unless no colour channel of its corners spans more than
-// kSmallContrast / 255: then it is interpolated like a block whose records
-// agree. What such a block can hide is a feature that passes between
-// corners at most minBlock apart and differs from all four by more than
-// that; measured in docs/speed-vs-error.md (-17 % samples, min PSNR -0.03
-// dB, flicker +2.5 %). Most of the blocks traced per pixel were of this
-// kind: edges of faint shadows and highlights, and two surfaces of similar
-// colour meeting.
-constexpr int kSmallContrast = 8;
+// pixel, and one of up to twice that size is split, unless no colour channel
+// of its corners spans more than kSmallContrast[0] / 255 (minimum size) or
+// kSmallContrast[1] / 255 (up to twice it): then it is interpolated like a
+// block whose records agree. What such a block can hide is a feature that
+// passes between corners at most 2 minBlock apart and differs from all four
+// by more than that. Most of the blocks traced per pixel were of this kind:
+// edges of faint shadows and highlights, two surfaces of similar colour
+// meeting. Measured in docs/speed-vs-error.md (with kEstimateContrast 4:
+// -19 % samples, min PSNR +0.3 dB, flicker as before).
+constexpr int kSmallContrast[2] = {12, 6};
 
 struct Edge {
   Sample* s;
@@ -316,8 +319,8 @@ bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
 }
 
 // True when no colour channel of the four samples spans more than
-// kSmallContrast / 255.
-bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d) {
+// limit / 255.
+bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d, int limit) {
   for (int sh = 0; sh < 24; sh += 8) {
     int v[4] = {(int)(a.packed >> sh & 255), (int)(b.packed >> sh & 255),
                 (int)(c.packed >> sh & 255), (int)(d.packed >> sh & 255)};
@@ -326,7 +329,7 @@ bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sampl
       lo = v[k] < lo ? v[k] : lo;
       hi = v[k] > hi ? v[k] : hi;
     }
-    if (hi - lo > kSmallContrast) return false;
+    if (hi - lo > limit) return false;
   }
   return true;
 }
@@ -369,8 +372,18 @@ void process_group(Context& c, Node* nodes, int count) {
     const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
     const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
+    // Small blocks whose records differ: interpolated where the corners'
+    // colours are close (kSmallContrast).
+    if (n.kind == kSplit && f.mode == kModeAdaptive) {
+      int limit = -1;
+      if (is_small(f, w, h))
+        limit = kSmallContrast[0];
+      else if (w <= 2 * f.minBlock && h <= 2 * f.minBlock)
+        limit = kSmallContrast[1];
+      if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
+    }
     // Not split: the four records are equal, so c00's stands for all.
-    if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
+    else if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
       n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);
@@ -381,11 +394,6 @@ void process_group(Context& c, Node* nodes, int count) {
       continue;
     }
     if (is_small(f, w, h)) {
-      if (f.mode == kModeAdaptive && low_contrast(c00, c10, c01, c11)) {
-        n.kind = kInterpolated;
-        interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
-        continue;
-      }
       n.kind = kTraced;
       trace_block(c, n, false);
       continue;

@@ -13,9 +13,9 @@
 // of a side whose ends have equal records and colours within
 // kEstimateContrast is estimated from them instead of traced
 // (adaptive_estimate; a pixel traced per pixel is always traced); and a
-// block of `minBlock` pixels whose corner colours span at most
-// kSmallContrast per channel is interpolated even where the records differ
-// (kModeAdaptive only).
+// block of up to 2 `minBlock` pixels whose corner colours span at most
+// kSmallContrast per channel (12/255 at minBlock, 6/255 up to twice it) is
+// interpolated even where the records differ (kModeAdaptive only).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
 // has exactly one writer and the picture is the same for any thread count.

@@ -238,7 +238,7 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       bits = (u32)code;
       if (code != 3) {
         color += lit * through;
-        if (spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
+        if (node && spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
       }
     }
     if (node) *node |= bits << (5 + 3 * li);

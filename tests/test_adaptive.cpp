@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "adaptive.h"
+#include "bench.h"
 #include "frame.h"
 #include "scenes.h"
 
@@ -248,6 +249,134 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   EXPECT_EQ(img.pixels, full.pixels); // flat colours on both sides: exact
 }
 
+// Small blocks whose records differ are interpolated when their corners'
+// colours span at most kSmallContrast per channel: 12/255 at the minimum
+// size (2 px), 6/255 up to twice it; else split down to 2 px and traced
+// per pixel. The straight edge of a flat triangle against a flat
+// background 5/255 apart is interpolated at 4 px, 10/255 apart at 2 px
+// (more samples), never traced, and within that contrast of the full
+// trace; 14/255 apart it is traced along its length; the copy-only mode
+// traces it at any contrast.
+TEST(AdaptiveFrame, SmallBlocksOfCloseColoursAreInterpolated) {
+  constexpr int kN = 96;
+  uint64_t samples[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    int contrast = (const int[]){5, 10, 14}[k];
+    for (Mode mode : {Mode::Adaptive, Mode::Copy}) {
+      Scene s;
+      base_scene(s);
+      s.ambient = v3(1);
+      s.background = v3(0.5f); // 128 / 255
+      Material flat = matte(v3(0.5f + float(contrast) / 255));
+      flat.diffuse = 0; // ambient only: one flat colour
+      scene_add(s,
+                make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10), v3(1000, 0, 10)),
+                flat);
+      Image img(kN, kN), full(kN, kN);
+      std::vector<uint8_t> kinds(kN * kN, kUnset);
+      RenderOptions opt;
+      opt.threads = 1;
+      opt.mode = mode;
+      opt.kinds = kinds.data();
+      RayStats stats;
+      render_frame(s, img, opt, &stats);
+      RenderOptions fo;
+      fo.mode = Mode::Full;
+      render_frame(s, full, fo, nullptr);
+      size_t traced = 0;
+      for (uint8_t kind : kinds)
+        traced += (kind & kKindMask) == kTraced;
+      FrameError e = compare_images(full, img);
+      if (contrast <= 12 && mode == Mode::Adaptive) {
+        EXPECT_EQ(traced, 0u) << "contrast " << contrast;
+        EXPECT_LE(e.maxError, contrast);
+        samples[k] = stats.primary;
+      } else {
+        EXPECT_GE(traced, size_t(kN)) << "contrast " << contrast; // along the edge
+        EXPECT_EQ(e.maxError, 0);
+      }
+    }
+  }
+  EXPECT_LT(samples[0], samples[1]); // 4-px blocks interpolated: no 2-px split
+}
+
+// The bands' queue (adaptive_take): every band is handed out once; an odd
+// band only after both even bands next to it have run; "wait" only when
+// every even band is out and the next odd band's neighbours still run;
+// "done" only when every band is out. Driven on one thread in a seeded
+// random order of takes and finishes (bands finish out of order), the
+// picture is the one-thread render's.
+TEST(AdaptiveFrame, BandsQueueHandsOutEachBandOnceAfterItsNeighbours) {
+  Scene s;
+  build_timeline_scene(s, 44.0);
+  for (int height : {200, 203, 8, 17}) { // 25, 26, 1 and 2 bands of 8 px
+    constexpr int kW = 64;
+    Image ref(kW, height);
+    RenderOptions opt;
+    opt.threads = 1;
+    render_frame(s, ref, opt, nullptr);
+    for (uint32_t seed : {1u, 7u, 99u}) {
+      Image img(kW, height);
+      std::vector<CornerSample> corners(size_t(adaptive_corner_count(kW, height, 8)));
+      AdaptiveFrame f{};
+      f.scene = &s;
+      f.fb = img.pixels.data();
+      f.width = f.stride = kW;
+      f.height = height;
+      f.baseBlock = 8;
+      f.minBlock = 2;
+      f.mode = kModeAdaptive;
+      f.corners = corners.data();
+      adaptive_begin(f);
+      int bands = adaptive_items(f);
+      ASSERT_EQ(bands, (height - 2) / 8 + 1);
+      std::vector<int> state(size_t(bands), 0); // 0 waiting, 1 running, 2 done
+      std::vector<int> running;
+      RayStats stats{0, 0, 0};
+      int finished = 0;
+      bool allOut = false;
+      while (finished < bands) {
+        seed = seed * 1664525u + 1013904223u;
+        if (!allOut && (running.empty() || (seed >> 16) % 3 != 0)) {
+          int b = adaptive_take(f);
+          int nextEven = 0;
+          while (nextEven < bands && state[size_t(nextEven)])
+            nextEven += 2;
+          if (b == kAdaptiveDone) {
+            for (int v : state)
+              ASSERT_NE(v, 0);
+            allOut = true;
+          } else if (b == kAdaptiveWait) {
+            ASSERT_GE(nextEven, bands) << "an even band was left";
+            ASSERT_FALSE(running.empty());
+          } else {
+            ASSERT_GE(b, 0);
+            ASSERT_LT(b, bands);
+            ASSERT_EQ(state[size_t(b)], 0) << "band " << b << " handed out twice";
+            if (b % 2) {
+              ASSERT_EQ(state[size_t(b - 1)], 2) << "band " << b;
+              if (b + 1 < bands) {
+                ASSERT_EQ(state[size_t(b + 1)], 2) << "band " << b;
+              }
+            }
+            state[size_t(b)] = 1;
+            running.push_back(b);
+          }
+        } else if (!running.empty()) {
+          size_t k = (seed >> 8) % running.size();
+          int b = running[k];
+          running.erase(running.begin() + long(k));
+          adaptive_run(f, b, &stats);
+          state[size_t(b)] = 2;
+          ++finished;
+        }
+      }
+      EXPECT_EQ(adaptive_take(f), kAdaptiveDone);
+      EXPECT_EQ(img.pixels, ref.pixels) << "height " << height << " seed " << seed;
+    }
+  }
+}
+
 TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   for (double t : {5.0, 44.0, 51.0}) { // 51 s is inside the blocks segment
     Scene s;
@@ -302,18 +431,18 @@ TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
 }
 
 // A side's midpoint is estimated from its ends when their records agree and
-// their colours are within 16/255 per channel: the rounded mean colour.
+// their colours are within 4/255 per channel: the rounded mean colour.
 TEST(AdaptiveEstimate, EqualRecordsAndCloseColours) {
   CornerSample a{}, b{}, mid{};
   a.path.count = b.path.count = 2;
   a.path.node[0] = b.path.node[0] = 3;
   a.path.node[1] = b.path.node[1] = 5 | 4 << 5;
   a.packed = 0xff102030u;
-  b.packed = 0xff203021u; // red +16, green +16, blue -15
+  b.packed = 0xff14242du; // red +4, green +4, blue -3
   ASSERT_TRUE(adaptive_estimate(a, b, mid));
-  EXPECT_EQ(mid.packed, 0xff182829u); // (16+32+1)/2 = 24, (32+48+1)/2 = 40, (48+33+1)/2 = 41
+  EXPECT_EQ(mid.packed, 0xff12222fu); // (16+20+1)/2 = 18, (32+36+1)/2 = 34, (48+45+1)/2 = 47
   EXPECT_TRUE(same_path(mid.path, a.path));
-  b.packed = 0xff213021u; // red +17: too far apart
+  b.packed = 0xff15242du; // red +5: too far apart
   EXPECT_FALSE(adaptive_estimate(a, b, mid));
   b.packed = 0xff000000u | (a.packed & 0xffffffu);
   b.path.node[1] = 5; // no highlight at b: another record

@@ -316,6 +316,124 @@ TEST(Shading, MissShowsBackgroundAndMirrorShowsItWeighted) {
   EXPECT_FLOAT_EQ(c.z, 0.3f);
 }
 
+// The specular terms left out (trace.h, kSpecExp): where Phong's h (1 - V.R)
+// > kSpecExp, (V.R)^h <= e^-kSpecExp; where the Beckmann exponent
+// tan^2(a) / m^2 > kSpecExp, 4 D (the Cook-Torrance term's ceiling over F
+// r_S, CookTorranceTermNeverAbove4FD) is below 1.6e-5 for the scenes' m and
+// D below 1e-3 for m in 0.01 .. 10. Checked in double over the whole skipped
+// range (beyond the cut, D falls).
+TEST(Shading, SkippedSpecularTermsAreBelowTheirStatedBounds) {
+  for (double h : {1.0, 20.0, 60.0, 200.0, 1000.0})
+    for (double x = 0; x < 1; x += 1e-4)
+      if (h * (1 - x) > kSpecExp) ASSERT_LE(std::pow(x, h), std::exp(-double(kSpecExp))) << h;
+  double worstScene = 0, worstAny = 0;
+  for (double m : {0.01, 0.05, 0.12, 0.22, 0.35, 1.0, 3.0, 10.0}) {
+    double m2 = m * m, tanCut = std::sqrt(kSpecExp * m2);
+    for (double a = std::atan(tanCut); a < M_PI / 2; a += 1e-4) {
+      double t2 = std::tan(a) * std::tan(a);
+      if (t2 <= kSpecExp * m2) continue;
+      double c2 = 1 / (1 + t2);
+      double D = std::exp(-t2 / m2) / (M_PI * m2 * c2 * c2);
+      worstAny = std::max(worstAny, D);
+      if (m >= 0.12 && m <= 0.35) worstScene = std::max(worstScene, 4 * D);
+    }
+  }
+  EXPECT_LT(worstScene, 1.6e-5);
+  EXPECT_LT(worstAny, 1e-3);
+  std::printf("[ measured ] skipped Cook-Torrance terms: 4 D <= %.3g (scenes' m), D <= %.3g (m in "
+              "0.01 .. 10)\n",
+              worstScene, worstAny);
+}
+
+// A shadow ray from inside a closed glass solid leaves it once without a
+// test (trace.cpp: transmittance's `exits`) only when the light is outside
+// the solid's bound. A ray along the axis of a glass sphere enters it at
+// z = 7 and meets its back at z = 13 from inside (the record's second
+// node). Light behind the camera: the back point's shadow ray crosses the
+// sphere's front, code 1 (one transparent object), the front point is lit
+// (code 0), and the colour is what the tested crossing gives. Light inside
+// the sphere: the back point sees it through no surface, code 0, and the
+// front point faces away from it (code 0).
+TEST(Shading, ShadowFromInsideGlassCrossesItsSurfaceOnlyForALightOutside) {
+  for (bool inside : {false, true}) {
+    Scene s = empty_scene(kPhong);
+    Material glass = make_mat(v3(0.9f, 0.95f, 1.0f), 0.3f, 0.5f, 20, 0.1f, 0.8f, 1.5f);
+    scene_add(s, make_sphere(v3(0, 0, 10), 3), glass);
+    scene_add_light(s, inside ? v3(0, 0.5f, 11) : v3(0, 0.5f, -20), v3(1));
+    PathRecord rec{};
+    TraceContext ctx{&s, {0, 0, 0}, &rec};
+    Vec3 c = trace(ctx, Ray{v3(0, 0, 0), v3(0, 0, 1)}, 1);
+    ASSERT_GE(rec.count, 2);
+    EXPECT_EQ(rec.node[0] & 31u, 1u); // the sphere, from outside
+    EXPECT_EQ(rec.node[1] & 31u, 1u); // the sphere, from inside
+    EXPECT_EQ(rec.node[0] >> 5 & 3u, 0u) << "inside " << inside;
+    EXPECT_EQ(rec.node[1] >> 5 & 3u, inside ? 0u : 1u) << "inside " << inside;
+    EXPECT_TRUE(c.x > 0 && c.y > 0 && c.z > 0);
+  }
+}
+
+// Shadow rays are culled by bounds taken from the light's end of the
+// segment (trace.cpp: shadow_mask, Scene::lightFX..). Seeded scenes of four
+// opaque spheres over a floor and two lights (added before or after the
+// spheres): at 20,000 floor points the record's shadow code per light is 3
+// exactly when the segment to that light meets a sphere (in double; points
+// within 1e-3 of a tangent are skipped), else 0.
+TEST(Shading, ShadowCodesMatchSegmentSphereTestsInDouble) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  int checked = 0, shadowed = 0;
+  for (int sceneIndex = 0; sceneIndex < 20; ++sceneIndex) {
+    Scene s = empty_scene(kPhong);
+    Vec3 lights[2] = {v3(6 * u(rng), 6 + 3 * u(rng), 6 * u(rng)),
+                      v3(6 * u(rng), 4 + 2 * u(rng), 6 * u(rng))};
+    bool lightsFirst = sceneIndex % 2 == 0;
+    if (lightsFirst)
+      for (Vec3 l : lights)
+        scene_add_light(s, l, v3(1));
+    Vec3 centre[4];
+    float radius[4];
+    for (int i = 0; i < 4; ++i) {
+      centre[i] = v3(4 * u(rng), 1.5f + u(rng), 4 * u(rng));
+      radius[i] = 0.4f + 0.3f * u(rng);
+      scene_add(s, make_sphere(centre[i], radius[i]), diffuse_white());
+    }
+    scene_add_background(s, make_plane(v3(0, 1, 0), 0), diffuse_white());
+    if (!lightsFirst)
+      for (Vec3 l : lights)
+        scene_add_light(s, l, v3(1));
+    for (int k = 0; k < 1000; ++k) {
+      Vec3 ground = v3(6 * u(rng), 0, 6 * u(rng));
+      PathRecord rec{};
+      TraceContext ctx{&s, {0, 0, 0}, &rec};
+      trace(ctx, Ray{v3(ground.x, 20, ground.z), v3(0, -1, 0)}, 1);
+      if ((rec.node[0] & 31u) != 5u) continue; // a sphere is in the way: not the floor
+      for (int l = 0; l < 2; ++l) {
+        // The segment from the floor point to the light against each sphere.
+        double px = ground.x, py = 0, pz = ground.z;
+        double dx = lights[l].x - px, dy = lights[l].y - py, dz = lights[l].z - pz;
+        double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+        dx /= len, dy /= len, dz /= len;
+        bool blocked = false, near = false;
+        for (int i = 0; i < 4; ++i) {
+          double fx = px - centre[i].x, fy = py - centre[i].y, fz = pz - centre[i].z;
+          double b = fx * dx + fy * dy + fz * dz;
+          double perp2 = fx * fx + fy * fy + fz * fz - b * b;
+          double r = radius[i], gap = std::sqrt(std::max(perp2, 0.0)) - r;
+          if (std::fabs(gap) < 1e-3) near = true;
+          if (gap < 0 && -b > 0 && -b < len) blocked = true;
+        }
+        if (near) continue;
+        ++checked;
+        shadowed += blocked;
+        EXPECT_EQ(rec.node[0] >> (5 + 3 * l) & 3u, blocked ? 3u : 0u)
+            << "scene " << sceneIndex << " point " << ground.x << "," << ground.z << " light " << l;
+      }
+    }
+  }
+  EXPECT_GT(checked, 20000);
+  EXPECT_GT(shadowed, 1000);
+}
+
 TEST(Shading, RecursionStopsAtMaxDepth) {
   // Two facing mirrors: the ray would bounce forever; maxDepth ends it.
   for (int depth : {1, 2, 5, 8}) {

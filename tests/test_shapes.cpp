@@ -567,6 +567,23 @@ double named_scale(Vec3 o, Vec3 p, double size) {
 
 // ---- sphere (unit sphere at the origin unless stated)
 
+// closed_convex (shapes.h): spheres and frustums with every disc of nonzero
+// radius capped; an open frustum, a plane or a triangle is not.
+TEST(Shapes, ClosedConvexSolids) {
+  Vec3 o = v3(0, 0, 0), up = v3(0, 1, 0);
+  EXPECT_TRUE(closed_convex(make_sphere(o, 1)));
+  EXPECT_TRUE(closed_convex(make_cylinder(o, up, 1, 2, kCapBase | kCapTop)));
+  EXPECT_FALSE(closed_convex(make_cylinder(o, up, 1, 2, kCapBase)));
+  EXPECT_FALSE(closed_convex(make_cylinder(o, up, 1, 2, kCapTop)));
+  EXPECT_TRUE(closed_convex(make_cone(o, up, 1, 0, 2, kCapBase)));        // apex: no cap needed
+  EXPECT_TRUE(closed_convex(make_cone(o, up, 0, 1, 2, kCapTop)));         // apex at the base
+  EXPECT_FALSE(closed_convex(make_cone(o, up, 1.5f, 0.3f, 2, kCapBase))); // open top (scene 1)
+  EXPECT_TRUE(closed_convex(make_cone(o, up, 1.5f, 0.3f, 2, kCapBase | kCapTop)));
+  EXPECT_FALSE(closed_convex(make_plane(up, 0)));
+  EXPECT_FALSE(closed_convex(make_triangle(o, v3(1, 0, 0), v3(0, 0, 1))));
+  EXPECT_FALSE(closed_convex(make_sphere(o, -1))); // empty
+}
+
 TEST(Sphere, HeadOnHitIsExact) {
   Shape s = make_sphere(v3(0, 0, 0), 1);
   Cast c = cast(s, v3(0, 0, -5), v3(0, 0, 1));
@@ -685,7 +702,7 @@ TEST(Sphere, ZeroRadiusIsRejected) {
   for (float y : {0.0f, 1e-7f, 1e-30f, -1e-3f}) {
     Cast c = cast(s, v3(-5, y, 0), v3(1, 0, 0));
     EXPECT_FALSE(c.hit);
-      EXPECT_TRUE(untouched(c, kHuge));
+    EXPECT_TRUE(untouched(c, kHuge));
   }
 }
 
@@ -755,7 +772,9 @@ TEST(Plane, SpawnedRayDoesNotRehit) {
     Vec3 p = at(o, d, c.h.t);
     for (double side : {1.0, -1.0}) {
       Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 0.001));
-      EXPECT_FALSE(cast(s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(s, c.h))), d2).hit) << i;
+      EXPECT_FALSE(
+          cast(s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(s, c.h))), d2).hit)
+          << i;
     }
     ++n;
   }
@@ -922,9 +941,9 @@ TEST(Cylinder, DegenerateDimensionsAreRejected) {
       Vec3 o = fv(rand_ball(g, 4)), d = fdir(rand_ball(g, 1.2) - dv(o));
       Cast c = cast(s, o, d);
       ASSERT_FALSE(c.hit);
-        ASSERT_TRUE(untouched(c, kHuge));
-      }
+      ASSERT_TRUE(untouched(c, kHuge));
     }
+  }
 }
 
 // ---- cones (full cone: base at origin, axis +y, radius 1, height 2, base cap)
@@ -1051,7 +1070,6 @@ TEST(OpenFrustum, InnerWallSeenThroughOpening) {
     Ref r = ref_intersect(s, dv(o), dv(fd));
     EXPECT_NEAR(c.h.t, r.t, 1e-5 * (1 + r.t)) << i;
     inner += r.piece == 0;
-
   }
   EXPECT_GT(inner, 200); // some of them do land on the inner wall
 }
@@ -1362,7 +1380,9 @@ TEST(Triangle, SpawnedRayDoesNotRehit) {
     Vec3 p = at(o, d, c.h.t);
     for (double side : {1.0, -1.0}) {
       Vec3 d2 = fdir(rand_hemi(g, dv(c.h.normal) * side, 0.001));
-      EXPECT_FALSE(cast(smp.s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(smp.s, c.h))), d2).hit)
+      EXPECT_FALSE(
+          cast(smp.s, spawn_origin(p, c.h.normal, d2, spawn_offset(p, spawn_scale(smp.s, c.h))), d2)
+              .hit)
           << i;
     }
     ++n;
@@ -1451,7 +1471,7 @@ TEST(AllShapes, IntervalIsOpenAndRespected) {
 
 struct SpawnCase {
   Sample smp;
-  Vec3 p, n; // float hit point and ray-facing normal
+  Vec3 p, n;   // float hit point and ray-facing normal
   float scale; // spawn_scale() of the hit
   bool front, degenerate, apex;
 };

@@ -32,9 +32,11 @@ enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 // A side's midpoint is estimated instead of traced when the records at its
 // two ends are equal and no colour channel differs between them by more than
 // kEstimateContrast / 255: the midpoint takes their record and the rounded
-// mean of their colours. Measured in docs/speed-vs-error.md (-11 % samples;
-// without the contrast limit the flicker figure got worse).
-constexpr int kEstimateContrast = 16;
+// mean of their colours. Measured in docs/speed-vs-error.md: at 16 (issue 9's
+// first round) -11 % samples; at 4, with the small blocks' rule below, a
+// little more samples and less flicker than 16 (without a contrast limit
+// the flicker figure got worse).
+constexpr int kEstimateContrast = 4;
 
 // A block whose corners see a transparent object (at any recorded depth) is
 // copied or interpolated only when it is at most kGlassBlock pixels wide and
@@ -42,6 +44,18 @@ constexpr int kEstimateContrast = 16;
 // around it, whose edges partly go unrecorded (deeper than kRecordDepth, or
 // reflections weaker than kRecordWeight); measured in docs/speed-vs-error.md.
 constexpr int kGlassBlock = 4;
+
+// A block of the minimum size whose corners' records differ is traced per
+// pixel, and one of up to twice that size is split, unless no colour channel
+// of its corners spans more than kSmallContrast[0] / 255 (minimum size) or
+// kSmallContrast[1] / 255 (up to twice it): then it is interpolated like a
+// block whose records agree. What such a block can hide is a feature that
+// passes between corners at most 2 minBlock apart and differs from all four
+// by more than that. Most of the blocks traced per pixel were of this kind:
+// edges of faint shadows and highlights, two surfaces of similar colour
+// meeting. Measured in docs/speed-vs-error.md (with kEstimateContrast 4:
+// -19 % samples, min PSNR +0.3 dB, flicker as before).
+constexpr int kSmallContrast[2] = {12, 6};
 
 struct Edge {
   Sample* s;
@@ -242,9 +256,22 @@ int states_as_samples(int states) {
 }
 
 // The caller's buffer: the lines of corners (gridH x width samples), then
-// each band's scratch, then one state byte per sample of both.
+// each band's scratch, then one state byte per sample of both, then the
+// bands' queue (Queue: two counters, then a done flag per band).
 int sample_slots(const AdaptiveFrame& f) {
   return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
+}
+
+struct Queue {
+  i32 nextEven, nextOdd; // the next band of each parity to hand out
+  u8 done[1];            // [bands]: 1 once the band has run
+};
+
+int queue_bytes(int bands) { return (int)sizeof(Queue) + bands; }
+
+Queue* queue(const AdaptiveFrame& f) {
+  int samples = sample_slots(f);
+  return (Queue*)(f.corners + samples + states_as_samples(samples));
 }
 
 Edge line_edge(const AdaptiveFrame& f, int k) {
@@ -291,7 +318,23 @@ bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
   return false;
 }
 
-// Blocks this size or smaller are traced per pixel.
+// True when no colour channel of the four samples spans more than
+// limit / 255.
+bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d, int limit) {
+  for (int sh = 0; sh < 24; sh += 8) {
+    int v[4] = {(int)(a.packed >> sh & 255), (int)(b.packed >> sh & 255),
+                (int)(c.packed >> sh & 255), (int)(d.packed >> sh & 255)};
+    int lo = v[0], hi = v[0];
+    for (int k = 1; k < 4; ++k) {
+      lo = v[k] < lo ? v[k] : lo;
+      hi = v[k] > hi ? v[k] : hi;
+    }
+    if (hi - lo > limit) return false;
+  }
+  return true;
+}
+
+// Blocks this size or smaller are traced per pixel (unless low_contrast).
 bool is_small(const AdaptiveFrame& f, int w, int h) {
   return (w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2);
 }
@@ -329,8 +372,18 @@ void process_group(Context& c, Node* nodes, int count) {
     const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
     const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
+    // Small blocks whose records differ: interpolated where the corners'
+    // colours are close (kSmallContrast).
+    if (n.kind == kSplit && f.mode == kModeAdaptive) {
+      int limit = -1;
+      if (is_small(f, w, h))
+        limit = kSmallContrast[0];
+      else if (w <= 2 * f.minBlock && h <= 2 * f.minBlock)
+        limit = kSmallContrast[1];
+      if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
+    }
     // Not split: the four records are equal, so c00's stands for all.
-    if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
+    else if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
       n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);
@@ -409,8 +462,8 @@ void process_group(Context& c, Node* nodes, int count) {
   c.used = used;
 }
 
-// Line k of corners is traced by one band next to it: an even band (phase
-// 0), or the last band when only that odd band touches it.
+// Line k of corners is traced by one band next to it: an even band, or the
+// last band when only that odd band touches it.
 int line_owner(int k, int bands) {
   if (k % 2 == 0) return k < bands ? k : k - 1;
   return k - 1;
@@ -575,20 +628,48 @@ int adaptive_corner_count(int width, int height, int baseBlock) {
   f.baseBlock = baseBlock;
   f.gridH = grid_count(height, baseBlock);
   int samples = sample_slots(f);
-  return samples + states_as_samples(samples);
+  return samples + states_as_samples(samples) + states_as_samples(queue_bytes(f.gridH - 1));
 }
 
 void adaptive_begin(AdaptiveFrame& f) {
   f.cam = camera_rays(*f.scene, f.width, f.height);
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
+  Queue* q = queue(f);
+  q->nextEven = 0;
+  q->nextOdd = 1;
+  for (int b = 0; b < f.gridH - 1; ++b)
+    q->done[b] = 0;
 }
 
-int adaptive_items(const AdaptiveFrame& f, int phase) {
+int adaptive_items(const AdaptiveFrame& f) { return f.gridH - 1; }
+
+// The done flags are stored with release order after the band's last write
+// and loaded with acquire order before an odd band starts: what the even
+// bands wrote on the shared lines is visible to the odd band that reads it.
+int adaptive_take(const AdaptiveFrame& f) {
+  Queue* q = queue(f);
   int bands = f.gridH - 1;
-  return phase == 0 ? (bands + 1) / 2 : bands / 2;
+  for (;;) {
+    i32 odd = __atomic_load_n(&q->nextOdd, __ATOMIC_RELAXED);
+    if (odd < bands && __atomic_load_n(&q->done[odd - 1], __ATOMIC_ACQUIRE) &&
+        (odd + 1 == bands || __atomic_load_n(&q->done[odd + 1], __ATOMIC_ACQUIRE))) {
+      if (__atomic_compare_exchange_n(&q->nextOdd, &odd, odd + 2, false, __ATOMIC_RELAXED,
+                                      __ATOMIC_RELAXED))
+        return odd;
+      continue; // another thread took it: look again
+    }
+    // (Loaded first, so that the counter passes `bands` by at most one step
+    // per thread however long threads wait.)
+    if (__atomic_load_n(&q->nextEven, __ATOMIC_RELAXED) < bands) {
+      i32 even = __atomic_fetch_add(&q->nextEven, 2, __ATOMIC_RELAXED);
+      if (even < bands) return even;
+    }
+    return odd < bands ? kAdaptiveWait : kAdaptiveDone;
+  }
 }
 
-void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats) {
-  run_band(f, 2 * item + phase, stats);
+void adaptive_run(const AdaptiveFrame& f, int band, RayStats* stats) {
+  run_band(f, band, stats);
+  __atomic_store_n(&queue(f)->done[band], (u8)1, __ATOMIC_RELEASE);
 }

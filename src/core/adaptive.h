@@ -12,7 +12,10 @@
 // kGlassBlock (4) pixels, else split; and when a block splits, the midpoint
 // of a side whose ends have equal records and colours within
 // kEstimateContrast is estimated from them instead of traced
-// (adaptive_estimate; a pixel traced per pixel is always traced).
+// (adaptive_estimate; a pixel traced per pixel is always traced); and a
+// block of up to 2 `minBlock` pixels whose corner colours span at most
+// kSmallContrast per channel (12/255 at minBlock, 6/255 up to twice it) is
+// interpolated even where the records differ (kModeAdaptive only).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
 // has exactly one writer and the picture is the same for any thread count.
@@ -24,13 +27,19 @@
 // and traced through one function (adaptive.cpp: trace_samples), the seam
 // where a packet tracer takes over four primary rays at a time.
 //
-// Threads: the core has none. A frame is two phases of independent work
-// items; the caller runs every item of phase 0 (on any threads, in any
-// order), waits for all of them, then every item of phase 1. An item is a
-// row of base blocks (a band): phase 0 the even bands, phase 1 the odd ones.
-// An even band traces the corners on its top and bottom line and keeps every
-// sample it traces on those lines for the odd bands next to it, so the two
-// bands of one phase never touch the same sample.
+// Threads: the core has none. A frame is one work item per row of base
+// blocks (a band); the caller's threads ask adaptive_take() for a band to
+// run and run it with adaptive_run(), in one pass, with no barrier. An even
+// band traces the corners on its top and bottom line and keeps every
+// sample it traces on those lines for the odd bands next to it; an odd band
+// reads them and may add samples of its own there, so it is handed out
+// only once both even bands next to it have finished (per-band done flags),
+// and two bands that run at once never touch the same sample. Even bands
+// are handed out in order; an odd band whose neighbours are done comes
+// first (odd bands too in order). No deadlock: adaptive_take() answers
+// "wait" only when every even band has been taken and the next odd band's
+// neighbours are still running, and even bands wait for nothing, so they
+// finish and the odd band becomes ready.
 #pragma once
 #include "trace.h"
 
@@ -54,7 +63,8 @@ struct AdaptiveFrame {
   u32* fb; // width x height, `stride` pixels per row
   int width, height, stride;
   int baseBlock; // 2..kMaxBaseBlock
-  int minBlock;  // >= 1; blocks this size or smaller are traced per pixel
+  int minBlock;  // >= 1; blocks this size or smaller are traced per pixel (or
+                 // interpolated when their corners' colours are close)
   AdaptiveMode mode;
   bool showBlocks;       // tint copied blocks red, interpolated ones blue
   CornerSample* corners; // caller-owned, adaptive_corner_count() entries: the samples
@@ -87,14 +97,24 @@ bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSampl
 // frame of this size and base block (baseBlock in 2..kMaxBaseBlock).
 int adaptive_corner_count(int width, int height, int baseBlock);
 
-// Prepares the frame (camera, grid). Call once per frame before phase 0.
+// Prepares the frame (camera, grid, the bands' queue). Call once per frame,
+// before any thread takes a band.
 void adaptive_begin(AdaptiveFrame& f);
 
-// Work items in a phase: phase 0 = even bands of blocks, phase 1 = odd bands.
-int adaptive_items(const AdaptiveFrame& f, int phase);
+// Work items in the frame: its bands.
+int adaptive_items(const AdaptiveFrame& f);
 
-// Runs one work item; adds the rays it cast to *stats (not null).
-void adaptive_run(const AdaptiveFrame& f, int phase, int item, RayStats* stats);
+// The next band for a thread to run (0 .. adaptive_items() - 1; each band is
+// handed out once), or kAdaptiveWait: no band is ready yet, the bands still
+// running will make one ready (yield and ask again); or kAdaptiveDone: every
+// band has been handed out. Safe to call from any number of threads at once
+// (atomic operations on the caller's buffer).
+constexpr int kAdaptiveWait = -2, kAdaptiveDone = -1;
+int adaptive_take(const AdaptiveFrame& f);
+
+// Runs band `band` (from adaptive_take()), marks it done for the bands that
+// wait on it, and adds the rays it cast to *stats (not null).
+void adaptive_run(const AdaptiveFrame& f, int band, RayStats* stats);
 
 // The pixels [x0, xEnd) x [y0, yEnd) of fb (`stride` pixels per row) set to
 // `packed` (colour copy), with SSE2.

@@ -17,13 +17,14 @@ typedef unsigned long long u64;
 
 constexpr float kPi = 3.14159265358979f;
 constexpr float kTwoPi = 6.28318530717959f;
-constexpr float kHuge = 1e30f;  // "no hit yet" distance; far above any scene's scale
+constexpr float kHuge = 1e30f; // "no hit yet" distance; far above any scene's scale
 
-inline float rt_abs(float x) { return x < 0 ? -x : x; }
+// |x| by clearing the sign bit (one andps, no branch); -0 gives +0.
+inline float rt_abs(float x) { return __builtin_fabsf(x); }
 inline float rt_min(float a, float b) { return a < b ? a : b; }
 inline float rt_max(float a, float b) { return a > b ? a : b; }
 inline float rt_clamp(float x, float lo, float hi) { return x < lo ? lo : (x > hi ? hi : x); }
-inline bool rt_finite(float x) { return x - x == 0.0f; }  // false for NaN and +-Inf
+inline bool rt_finite(float x) { return x - x == 0.0f; } // false for NaN and +-Inf
 
 // Correctly rounded (one sqrtss); negative input gives NaN, so callers clamp.
 inline float rt_sqrt(float x) { return __builtin_sqrtf(x); }
@@ -86,7 +87,7 @@ inline float comp(Vec3 a, int i) { return i == 0 ? a.x : (i == 1 ? a.y : a.z); }
 // `fallback`, so no NaN comes out of a degenerate configuration.
 inline Vec3 normalize(Vec3 a, Vec3 fallback = Vec3{0, 1, 0}) {
   float len2 = dot(a, a);
-  if (!(len2 > 1e-30f)) return fallback;  // 1e-30: far below any real length^2, above denormals
+  if (!(len2 > 1e-30f)) return fallback; // 1e-30: far below any real length^2, above denormals
   return a * (1.0f / rt_sqrt(len2));
 }
 
@@ -103,7 +104,7 @@ inline float smooth01(float t) {
 // synth's oscillators run on it: a cheap per-sample sine, not a precise one
 // (that is rt_sin). Its result never leaves [-1, 1].
 inline float rt_sin_turns(float p) {
-  p -= rt_floor(p + 0.5f);                // [-1/2, 1/2)
-  float s = 8.0f * p * (1.0f - 2.0f * rt_abs(p));  // |s| <= 1
+  p -= rt_floor(p + 0.5f);                        // [-1/2, 1/2)
+  float s = 8.0f * p * (1.0f - 2.0f * rt_abs(p)); // |s| <= 1
   return s * (0.776f + 0.224f * rt_abs(s));
 }

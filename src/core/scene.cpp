@@ -3,6 +3,16 @@
 
 namespace {
 
+// Scene::lightFX.. for light l and bound slot i.
+void light_terms(Scene& s, int l, int i) {
+  Vec3 p = s.lights[l].pos;
+  float fx = p.x - s.boundX[i], fy = p.y - s.boundY[i], fz = p.z - s.boundZ[i];
+  s.lightFX[l][i] = fx;
+  s.lightFY[l][i] = fy;
+  s.lightFZ[l][i] = fz;
+  s.lightC[l][i] = fx * fx + fy * fy + fz * fz - s.boundR2[i];
+}
+
 void add_object(Scene& s, const Shape& shape, const Material& m) {
   int i = s.numObjects++;
   Object& o = s.objects[i];
@@ -18,9 +28,11 @@ void add_object(Scene& s, const Shape& shape, const Material& m) {
   s.boundZ[i] = o.boundCentre.z;
   s.boundR[i] = o.boundRadius;
   s.boundR2[i] = o.boundRadius * o.boundRadius;
+  for (int l = 0; l < s.numLights; ++l)
+    light_terms(s, l, i);
 }
 
-}  // namespace
+} // namespace
 
 void scene_clear(Scene& s) {
   s.numObjects = s.numForeground = s.numLights = 0;
@@ -44,5 +56,9 @@ void scene_add_background(Scene& s, const Shape& shape, const Material& m) {
 }
 
 void scene_add_light(Scene& s, Vec3 pos, Vec3 color) {
-  if (s.numLights < kMaxLights) s.lights[s.numLights++] = Light{pos, color};
+  if (s.numLights >= kMaxLights) return;
+  int l = s.numLights++;
+  s.lights[l] = Light{pos, color};
+  for (int i = 0; i < kMaxObjects; ++i)
+    light_terms(s, l, i);
 }

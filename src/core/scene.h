@@ -7,20 +7,20 @@
 enum ShadingModel : u8 { kPhong, kCookTorrance };
 
 struct Material {
-  Vec3 color;       // surface albedo, linear RGB in [0, 1]
-  float diffuse;    // r_D
-  float specular;   // r_S
-  float shininess;  // Phong exponent h
-  float reflect;    // weight of the mirror-reflected colour
-  float transmit;   // weight of the refracted colour; also the shadow-ray transmittance
-  float ior;        // index of refraction of the solid (outside is 1.0, air)
-  float roughness;  // Cook-Torrance m (rms microfacet slope, radians), > 0
-  float f0;         // Cook-Torrance Fresnel reflectance at normal incidence
+  Vec3 color;      // surface albedo, linear RGB in [0, 1]
+  float diffuse;   // r_D
+  float specular;  // r_S
+  float shininess; // Phong exponent h
+  float reflect;   // weight of the mirror-reflected colour
+  float transmit;  // weight of the refracted colour; also the shadow-ray transmittance
+  float ior;       // index of refraction of the solid (outside is 1.0, air)
+  float roughness; // Cook-Torrance m (rms microfacet slope, radians), > 0
+  float f0;        // Cook-Torrance Fresnel reflectance at normal incidence
 };
 
 struct Light {
   Vec3 pos;
-  Vec3 color;  // I_L, may exceed 1
+  Vec3 color; // I_L, may exceed 1
 };
 
 // An object: shape, material, and a bounding sphere that rays test first
@@ -36,10 +36,10 @@ struct Object {
 
 struct Camera {
   Vec3 pos, target, up;
-  float fovY;  // vertical field of view, radians
+  float fovY; // vertical field of view, radians
 };
 
-constexpr int kMaxObjects = 8;  // scene 1 has 6, scene 2 has 7; a multiple of 4 (SSE)
+constexpr int kMaxObjects = 8; // scene 1 has 6, scene 2 has 7; a multiple of 4 (SSE)
 constexpr int kMaxLights = 4;
 
 // Objects [0, numForeground) are foreground; [numForeground, numObjects) are
@@ -53,9 +53,9 @@ struct Scene {
   Light lights[kMaxLights];
   int numLights;
   ShadingModel model;
-  Vec3 background;  // colour of a ray that hits nothing
-  Vec3 ambient;     // ambient light level, multiplied by the albedo once per hit
-  int maxDepth;     // primary ray is depth 1; no secondary rays beyond maxDepth
+  Vec3 background; // colour of a ray that hits nothing
+  Vec3 ambient;    // ambient light level, multiplied by the albedo once per hit
+  int maxDepth;    // primary ray is depth 1; no secondary rays beyond maxDepth
   Camera camera;
   // The objects' bounding spheres again, structure-of-arrays, so that a ray
   // tests four bounds at once (trace.cpp). Filled by scene_add*; an unused
@@ -67,6 +67,14 @@ struct Scene {
   alignas(16) float boundR[kMaxObjects];
   alignas(16) float boundR2[kMaxObjects];
   u32 unboundedMask;
+  // Per light l and bound i, for shadow rays (trace.cpp), which all end at a
+  // light: f = light - centre and c = |f|^2 - R^2 (unused slots: R^2 = -1,
+  // which no ray passes). Filled by scene_add* and scene_add_light for every
+  // pair whichever comes first.
+  alignas(16) float lightFX[kMaxLights][kMaxObjects];
+  alignas(16) float lightFY[kMaxLights][kMaxObjects];
+  alignas(16) float lightFZ[kMaxLights][kMaxObjects];
+  alignas(16) float lightC[kMaxLights][kMaxObjects];
 };
 
 // Appending helpers used by scene builders. Foreground objects must all be

@@ -88,8 +88,8 @@ struct Hit {
   float t;
   Vec3 normal;
   bool front;
-  u8 piece;     // intersect_t(): which piece (frustum: side, base, top cap; plane: 1 = front)
-  float local;  // intersect_t(): the shape's own parameter of the hit (frustum: the root tr)
+  u8 piece;    // intersect_t(): which piece (frustum: side, base, top cap; plane: 1 = front)
+  float local; // intersect_t(): the shape's own parameter of the hit (frustum: the root tr)
 };
 
 enum ShapeKind : u8 { kSphere, kPlane, kCylinder, kCone, kTriangle, kEmpty };
@@ -202,6 +202,15 @@ inline bool leaves_for_good(const Shape& s, const Hit& hit, Vec3 dir) {
   if (s.kind == kPlane || s.kind == kTriangle) return true;
   float d = dot(dir, hit.normal);
   return hit.front ? d > 0 : d < 0;
+}
+
+// True for a closed convex solid: a sphere, or a frustum whose every disc of
+// nonzero radius is capped (a cone's apex needs none). A ray from a point
+// inside it leaves it exactly once.
+inline bool closed_convex(const Shape& s) {
+  if (s.kind == kSphere) return true;
+  if (s.kind != kCylinder && s.kind != kCone) return false;
+  return (s.r0 == 0 || (s.caps & kCapBase)) && (s.r1 == 0 || (s.caps & kCapTop));
 }
 
 // Origin for a ray leaving hit point p (with ray-facing unit normal n) in

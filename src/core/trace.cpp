@@ -14,14 +14,12 @@ namespace {
 
 typedef float f4 __attribute__((vector_size(16)));
 
-// Bit i set: the ray may hit object i (of those in `range`) before tMax,
-// judged by its bounding sphere (conservative: a clear bit is a sure miss).
-// Four bounds per step with SSE. Per bound: f = org - centre, b = f.d,
-// c = |f|^2 - r^2; a miss when the ray passes beside (b^2 < c), or starts
-// outside (c > 0) and points away (b > 0) or reaches it beyond tMax.
-// kLimited = false: tMax is kHuge, which no bound reaches, so that test goes.
-template <bool kLimited>
-u32 bound_mask(const Scene& s, const Ray& ray, float tMax, u32 range) {
+// Bit i set: the ray may hit object i (of those in `range`), judged by its
+// bounding sphere (conservative: a clear bit is a sure miss). Four bounds
+// per step with SSE. Per bound: f = org - centre, b = f.d, c = |f|^2 - r^2;
+// a miss when the ray passes beside (b^2 < c), or starts outside (c > 0) and
+// points away (b > 0).
+u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
   u32 mask = s.unboundedMask & range;
   f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
   f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};
@@ -29,20 +27,46 @@ u32 bound_mask(const Scene& s, const Ray& ray, float tMax, u32 range) {
   f4 dx = {ray.dir.x, ray.dir.x, ray.dir.x, ray.dir.x};
   f4 dy = {ray.dir.y, ray.dir.y, ray.dir.y, ray.dir.y};
   f4 dz = {ray.dir.z, ray.dir.z, ray.dir.z, ray.dir.z};
-  f4 tm = {tMax, tMax, tMax, tMax};
   f4 zero = {0, 0, 0, 0};
   for (int g = 0; g < kMaxObjects && (range >> g); g += 4) {
     f4 fx = ox - *(const f4*)(s.boundX + g), fy = oy - *(const f4*)(s.boundY + g);
     f4 fz = oz - *(const f4*)(s.boundZ + g);
     f4 b = fx * dx + fy * dy + fz * dz;
     f4 c = fx * fx + fy * fy + fz * fz - *(const f4*)(s.boundR2 + g);
-    auto away = b > zero;
-    if (kLimited) away |= -b - *(const f4*)(s.boundR + g) >= tm;
-    auto miss = (b * b < c) | ((c > zero) & away);
+    auto miss = (b * b < c) | ((c > zero) & (b > zero));
     u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
     mask |= (m << g) & range;
   }
   return mask;
+}
+
+// Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
+// may meet object i (of those in `range`) before the light, judged by its
+// bound (conservative, as bound_mask). The segment is taken from the light's
+// end, whose terms the scene holds (Scene::lightFX..): along -L from the
+// light, beta = f.L is minus bound_mask's b; a miss when the line passes
+// beside (beta^2 < c), or the light is outside the bound (c > 0) and the
+// segment points away from it (beta < 0) or ends before it (beta - R >= dist).
+u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist, u32 range) {
+  u32 mask = s.unboundedMask & range;
+  f4 lx = {L.x, L.x, L.x, L.x}, ly = {L.y, L.y, L.y, L.y}, lz = {L.z, L.z, L.z, L.z};
+  f4 tm = {dist, dist, dist, dist}, zero = {0, 0, 0, 0};
+  for (int g = 0; g < kMaxObjects && (range >> g); g += 4) {
+    f4 beta = *(const f4*)(s.lightFX[l] + g) * lx + *(const f4*)(s.lightFY[l] + g) * ly +
+              *(const f4*)(s.lightFZ[l] + g) * lz;
+    f4 c = *(const f4*)(s.lightC[l] + g);
+    auto miss = (beta * beta < c) |
+                ((c > zero) & ((beta < zero) | (beta - *(const f4*)(s.boundR + g) >= tm)));
+    u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
+    mask |= (m << g) & range;
+  }
+  return mask;
+}
+
+// True when p lies outside object i's bounding sphere (so outside the object).
+inline bool outside_bound(const Scene& s, int i, Vec3 p) {
+  float x = p.x - s.boundX[i], y = p.y - s.boundY[i], z = p.z - s.boundZ[i];
+  return x * x + y * y + z * z > s.boundR2[i];
 }
 
 inline u32 range_mask(int begin, int end) {
@@ -57,7 +81,7 @@ inline u32 range_mask(int begin, int end) {
 int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
   hit.t = kHuge;
   int found = -1;
-  u32 all = bound_mask<false>(s, ray, kHuge, range_mask(0, s.numObjects) & ~skip);
+  u32 all = bound_mask(s, ray, range_mask(0, s.numObjects) & ~skip);
   u32 foreground = range_mask(0, s.numForeground);
   for (u32 m = all & foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
@@ -75,19 +99,24 @@ int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
 // each foreground object on the way multiplies it by its transmit * colour
 // (a tinted shadow), an opaque one blocks it. `code` gets the shadow code of
 // PathRecord. Background objects cast no shadows (the contract).
-// Objects in `skip` are not tested, as in nearest().
-Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32 skip) {
+// Objects in `skip` are not tested, as in nearest(). Objects in `exits` are
+// crossed without a test: the ray starts inside that closed convex solid
+// and the light lies outside it (trace_hit), so the ray leaves it exactly
+// once on the way; it stays in index order with the others, so the product
+// is the one the test would give.
+Vec3 transmittance(TraceContext& ctx, int light, Vec3 p, Vec3 L, float dist, int& code, u32 skip,
+                   u32 exits) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
   Ray ray{p, L};
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = bound_mask<true>(s, ray, dist, range_mask(0, s.numForeground) & ~skip); mask;
+  for (u32 mask = shadow_mask(s, light, L, dist, range_mask(0, s.numForeground) & ~skip); mask;
        mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;
     hit.t = dist;
-    if (!intersect_t(s.objects[i].shape, ray, 0.0f, hit)) continue;
+    if (!(exits >> i & 1) && !intersect_t(s.objects[i].shape, ray, 0.0f, hit)) continue;
     const Material& m = s.objects[i].mat;
     if (m.transmit <= 0) {
       code = 3;
@@ -111,8 +140,15 @@ Vec3 transmittance(TraceContext& ctx, Vec3 p, Vec3 L, float dist, int& code, u32
 // (Until issue 9 D was the Gaussian exp(-(a/m)^2) / (pi m^2), which needed
 // a = acos(N.H) and integrates to 0.99, 0.97, 0.92 for the scenes' m =
 // 0.12, 0.22, 0.35.) Below kCos2Min, D is 0.
+//
+// Where D's exponent -tan^2(a) / m^2 is below -kSpecExp the term is not
+// computed: 0 (trace.h). tan^2(a) = (h.h - (N.h)^2) / (N.h)^2 with h = L + V
+// unnormalised, so the test needs no square root and no division.
 float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
-  Vec3 H = normalize(L + V, N);
+  Vec3 h = L + V;
+  float nh = dot(N, h), m2 = m.roughness * m.roughness;
+  if (!(nh > 0) || dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh)) return 0.0f;
+  Vec3 H = normalize(h, N);
   float NdotH = rt_clamp(dot(N, H), 0.0f, 1.0f);
   float NdotV = rt_max(dot(N, V), kCosEps);
   float NdotL = rt_max(dot(N, L), 0.0f);
@@ -123,7 +159,7 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
   float VdotH = rt_max(dot(V, H), 0.5f * (NdotV + NdotL));
   float x = 1.0f - VdotH, x2 = x * x;
   float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);
-  float c2 = NdotH * NdotH, m2 = m.roughness * m.roughness;
+  float c2 = NdotH * NdotH;
   float D = c2 > kCos2Min ? rt_exp((c2 - 1.0f) / (c2 * m2)) / (kPi * m2 * c2 * c2) : 0.0f;
   float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
   return F * D * G / NdotV;
@@ -131,7 +167,7 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
 
 Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
-}  // namespace
+} // namespace
 
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
@@ -159,6 +195,10 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   Vec3 color = s.ambient * m.color;
   float off = spawn_offset(p, spawn_scale(obj.shape, hit));
   Vec3 lightOrg = spawn_origin(p, N, N, off);
+  // A hit from inside a closed convex solid: lightOrg is inside it too (N
+  // faces the ray), so a shadow ray to a light outside the solid's bound
+  // leaves it exactly once (transmittance's `exits`).
+  bool inside = !hit.front && closed_convex(obj.shape);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
     Vec3 toLight = light.pos - lightOrg;
@@ -175,8 +215,11 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       float spec;
       Vec3 lit;
       if (s.model == kPhong) {
+        // (V.R)^h <= exp(-h (1 - V.R)) (ln x <= x - 1): below exp(-kSpecExp)
+        // the power is not computed (trace.h).
         float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
-        spec = m.specular * rt_pow(VdotR, m.shininess);
+        spec = m.shininess * (1.0f - VdotR) > kSpecExp ? 0.0f
+                                                       : m.specular * rt_pow(VdotR, m.shininess);
         lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
       } else {
         spec = m.specular * cook_torrance(m, N, V, L) * NdotL;
@@ -186,13 +229,16 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       // than kShadowSkip casts no shadow ray: it counts as lit (with or
       // without a record, the colour is the same).
       Vec3 through = v3(1.0f);
-      if (recordable || weight * max_abs(lit) >= kShadowSkip)
-        through = transmittance(ctx, lightOrg, L, dist, code,
-                                leaves_for_good(obj.shape, hit, L) ? self : 0);
+      if (recordable || weight * max_abs(lit) >= kShadowSkip) {
+        bool leaves = leaves_for_good(obj.shape, hit, L);
+        bool exits = inside && !leaves && outside_bound(s, id, light.pos);
+        through =
+            transmittance(ctx, li, lightOrg, L, dist, code, leaves ? self : 0, exits ? self : 0);
+      }
       bits = (u32)code;
       if (code != 3) {
         color += lit * through;
-        if (spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
+        if (node && spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
       }
     }
     if (node) *node |= bits << (5 + 3 * li);
@@ -209,11 +255,11 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   if (m.transmit > 0 && weight * m.transmit >= kMinRayWeight) {
     // Snell: eta = n1/n2; entering (front) goes air -> solid.
     float eta = hit.front ? 1.0f / m.ior : m.ior;
-    float cosI = dot(N, V);  // >= 0: N faces the ray
+    float cosI = dot(N, V); // >= 0: N faces the ray
     float sin2T = eta * eta * (1.0f - cosI * cosI);
     Vec3 T;
     if (sin2T > 1.0f) {
-      T = reflect(ray.dir, N);  // total internal reflection
+      T = reflect(ray.dir, N); // total internal reflection
     } else {
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
@@ -237,7 +283,7 @@ CameraRays camera_rays(const Camera& cam, int width, int height) {
   Vec3 right = normalize(cross(fwd, cam.up), Vec3{1, 0, 0});
   Vec3 up = cross(right, fwd);
   float halfH = rt_sin(cam.fovY * 0.5f) / rt_cos(cam.fovY * 0.5f);
-  float pixel = 2.0f * halfH / (float)height;  // square pixels
+  float pixel = 2.0f * halfH / (float)height; // square pixels
   CameraRays c;
   c.org = cam.pos;
   c.dx = right * pixel;
@@ -254,7 +300,7 @@ CameraRays camera_rays(const Scene& scene, int width, int height) {
 
 u32 pack_color(Vec3 c) {
   auto channel = [](float v) -> u32 {
-    if (!(v > 0.0f)) return 0;  // negative and NaN
+    if (!(v > 0.0f)) return 0; // negative and NaN
     if (v >= 1.0f) return 255;
     return (u32)(v * 255.0f + 0.5f);
   };
@@ -263,8 +309,8 @@ u32 pack_color(Vec3 c) {
 
 // Primary rays in packets of four (packet/packet.h: the same pixels as one
 // trace() each).
-void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride,
-                      int rowBegin, int rowEnd, RayStats* stats) {
+void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride, int rowBegin,
+                      int rowEnd, RayStats* stats) {
   RayStats rays{0, 0, 0};
   render_rows4(scene, camera_rays(scene, width, height), fb, width, stride, rowBegin, rowEnd,
                &rays);

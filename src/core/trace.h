@@ -25,7 +25,7 @@ struct RayStats {
 constexpr int kRecordDepth = 3;
 constexpr float kRecordWeight = 0.25f;
 constexpr float kHighlightEdge = 1.0f / 32;
-constexpr int kMaxPathNodes = 7;  // a full binary tree of depth 3
+constexpr int kMaxPathNodes = 7; // a full binary tree of depth 3
 struct PathRecord {
   u8 count;
   u32 node[kMaxPathNodes];
@@ -35,7 +35,7 @@ bool same_path(const PathRecord& a, const PathRecord& b);
 struct TraceContext {
   const Scene* scene;
   RayStats stats;
-  PathRecord* record;  // may be null: nothing recorded
+  PathRecord* record; // may be null: nothing recorded
 };
 
 // Colour seen along `ray` (unit direction). depth is 1 for a primary ray;
@@ -57,6 +57,17 @@ struct TraceContext {
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f, u32 skip = 0);
 constexpr float kMinRayWeight = 1.0f / 64;
 constexpr float kShadowSkip = 2.0f / 255;
+// A specular term is taken as 0 without computing it where it is below
+// e^-kSpecExp = 1.1e-7 of its peak: Phong's (V.R)^h when h (1 - V.R) >
+// kSpecExp ((V.R)^h <= e^(-h (1 - V.R))), and Cook-Torrance where the
+// Beckmann D's exponent -tan^2(a) / m^2 is below -kSpecExp: there D <
+// (1 + 16 m^2)^2 e^-16 / (pi m^2), below 4e-6 for the scenes' m = 0.12 ..
+// 0.35 (the term, at most 4 F D r_S, below 1.6e-5 of the light), below 1e-3
+// for m in 0.01 .. 10. Full trace against computing every term, 256 frames:
+// scene 1 identical, scene 2 min PSNR 91 dB. They save rt_pow's log2 and
+// exp2, and Cook-Torrance's half vector, exp and four divisions, where most
+// shading points are (docs/speed-vs-error.md).
+constexpr float kSpecExp = 16.0f;
 
 // trace() is its nearest-hit search (first_hit()) followed by trace_hit():
 // with `id` and `hit` (t, piece, local) as first_hit() gave them for `ray`,
@@ -93,8 +104,8 @@ u32 pack_color(Vec3 c);
 
 // Full trace (every pixel) of rows [rowBegin, rowEnd) into a caller-owned
 // framebuffer of `width` x `height` pixels with `stride` pixels per row.
-void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride,
-                      int rowBegin, int rowEnd, RayStats* stats);
+void render_full_rows(const Scene& scene, u32* fb, int width, int height, int stride, int rowBegin,
+                      int rowEnd, RayStats* stats);
 
 // Constants of the shading model, named for the tests and docs.
 // kCosEps: floor of N.V in Cook-Torrance, so 1/(N.V) stays finite for a

@@ -76,36 +76,28 @@ constexpr DWORD kFullscreenStyle = WS_POPUP; // no caption, no border
 constexpr DWORD kMinimisedWaitMs = 250;
 
 // One frame of work items, shared by the main thread and the workers. The
-// adaptive renderer has two phases (corner rows, then block rows; every
-// phase-1 item reads corners of phase-0 items). Both run in one pass over a
-// single item counter: items [0, phase0Items) are phase 0, the rest phase 1.
-// A worker that draws a phase-1 item first waits until phase0Done reaches
-// phase0Items. That cannot deadlock: the counter hands out items in order,
-// so once any phase-1 item is taken every phase-0 item has been taken by a
-// worker that finishes it without waiting. The wait is short (at most the
-// rest of one row of corners) and costs no wake-up, where a pass per phase
-// would wake every worker and the main thread twice a frame (measured in
-// docs/win32.md).
+// adaptive renderer hands out its bands itself (adaptive_take, adaptive.h):
+// one pass, no barrier; an odd band is handed out once its two even
+// neighbours are done, and a worker told to wait (every even band taken,
+// the next odd band's neighbours still running) yields and asks again. That
+// cannot deadlock: even bands wait for nothing, so the bands the waiting
+// worker needs finish (on other workers, or on this core once SwitchToThread
+// lets a preempted one run). The ordering of the samples one band writes
+// before the next reads them is the core's (release/acquire done flags).
+// Without RT64K_ADAPTIVE the items are bands of rows taken from `nextItem`.
 //
 // The job lives on the main thread's stack (no global to address; see
 // audio.cpp for the exe's one global, in .bss). The main thread writes
 // `scene`, `frame` and the counters only while
 // every worker waits on `start`; the semaphore release and the interlocked
-// operations order those writes before the workers' reads. A worker that saw
-// phase0Done == phase0Items reads the corners the others wrote: their
-// InterlockedIncrement (a locked instruction, a full barrier) comes after
-// their writes, and x86-64 keeps loads in order; the compiler cannot move the
-// corner reads above the volatile read because they happen inside
-// adaptive_run, an external function.
+// operations order those writes before the workers' reads.
 struct FrameJob {
   Scene scene;
   AdaptiveFrame frame;      // frame.scene points at `scene`
   HANDLE start;             // semaphore: one count per worker per frame
   HANDLE done;              // auto-reset event: set by the last worker to finish
-  LONG phase0Items;         // corner rows (all items without RT64K_ADAPTIVE)
-  LONG items;               // corner rows + block rows
-  volatile LONG nextItem;   // next item to take
-  volatile LONG phase0Done; // phase-0 items finished
+  LONG items;               // bands of rows (without RT64K_ADAPTIVE)
+  volatile LONG nextItem;   // next item to take (without RT64K_ADAPTIVE)
   volatile LONG busyCounts; // counts of `start` taken and not yet handed back
 };
 
@@ -121,21 +113,19 @@ DWORD WINAPI render_worker(void* parameter) {
   for (;;) {
     WaitForSingleObject(job.start, INFINITE);
     RayStats stats; // adaptive_run adds to it; intro.exe does not report rays
-    for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;) {
-      if (!RT64K_ADAPTIVE) {
+    if (RT64K_ADAPTIVE) {
+      for (int band; (band = adaptive_take(f)) != kAdaptiveDone;) {
+        if (band == kAdaptiveWait)
+          SwitchToThread(); // lets a preempted neighbour's worker finish on this core
+        else
+          adaptive_run(f, band, &stats);
+      }
+    } else {
+      for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;) {
         int rowEnd = (item + 1) * kBandRows;
         render_full_rows(job.scene, f.fb, f.width, f.height, f.stride, item * kBandRows,
                          rowEnd < f.height ? rowEnd : f.height, nullptr);
-        continue;
       }
-      int phase = item >= job.phase0Items;
-      if (phase) {
-        item -= job.phase0Items;
-        while (job.phase0Done < job.phase0Items)
-          SwitchToThread(); // lets a preempted phase-0 worker finish on this core
-      }
-      adaptive_run(f, phase, item, &stats);
-      if (!phase) InterlockedIncrement(&job.phase0Done);
     }
     if (InterlockedDecrement(&job.busyCounts) == 0) SetEvent(job.done);
   }
@@ -191,15 +181,11 @@ void wait_pumping(HANDLE object) {
 
 // Renders job.scene into job.frame.fb on all workers and returns when done.
 void render_frame(FrameJob& job, LONG workers) {
-  if (RT64K_ADAPTIVE) {
+  if (RT64K_ADAPTIVE)
     adaptive_begin(job.frame);
-    job.phase0Items = adaptive_items(job.frame, 0);
-    job.items = job.phase0Items + adaptive_items(job.frame, 1);
-  } else {
-    job.phase0Items = job.items = (job.frame.height + kBandRows - 1) / kBandRows;
-  }
+  else
+    job.items = (job.frame.height + kBandRows - 1) / kBandRows;
   job.nextItem = 0;
-  job.phase0Done = 0;
   job.busyCounts = workers;
   ReleaseSemaphore(job.start, workers, nullptr);
   wait_pumping(job.done);

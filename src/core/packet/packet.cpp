@@ -54,7 +54,7 @@ void scalar_lanes(const Shape& shape, Vec3 org, const Dirs& d, u32 lanes, int ob
   }
 }
 
-// bound_mask<false> (trace.cpp) for four rays, one bound at a time, with f
+// bound_mask (trace.cpp) for four rays, one bound at a time, with f
 // and c from the terms. Returns the objects whose bound some lane of `live`
 // may hit; lanes[i] gets those lanes for object i, b[i] their f.d (which is
 // a sphere's own b: its bound has its centre).
@@ -262,7 +262,7 @@ f4 load_lanes(const float* v, int count) {
 } // namespace
 
 int first_hit_primary(const Scene& s, const CameraRays& cam, Vec3 dir, Hit& hit) {
-  // bound_mask<false> with f and c from the terms, four bounds per step.
+  // bound_mask with f and c from the terms, four bounds per step.
   const PrimaryTerms& p = cam.terms;
   f4 dx = f4_of(dir.x), dy = f4_of(dir.y), dz = f4_of(dir.z), zero = f4_of(0.0f);
   u32 all = s.unboundedMask;

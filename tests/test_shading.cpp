@@ -325,7 +325,9 @@ TEST(Shading, MissShowsBackgroundAndMirrorShowsItWeighted) {
 TEST(Shading, SkippedSpecularTermsAreBelowTheirStatedBounds) {
   for (double h : {1.0, 20.0, 60.0, 200.0, 1000.0})
     for (double x = 0; x < 1; x += 1e-4) {
-      if (h * (1 - x) > kSpecExp) ASSERT_LE(std::pow(x, h), std::exp(-double(kSpecExp))) << h;
+      if (h * (1 - x) > kSpecExp) {
+        ASSERT_LE(std::pow(x, h), std::exp(-double(kSpecExp))) << h;
+      }
     }
   double worstScene = 0, worstAny = 0;
   for (double m : {0.01, 0.05, 0.12, 0.22, 0.35, 1.0, 3.0, 10.0}) {

@@ -73,26 +73,12 @@ inline u32 range_mask(int begin, int end) {
   return (end >= 32 ? ~0u : (1u << end) - 1) & ~((1u << begin) - 1);
 }
 
-// Nearest hit: foreground first; background objects only when no foreground
-// object was hit (the background contract in scene.h). Returns object index.
-// Objects whose bit is set in `skip` are not tested: the ray leaves one of
-// them on a side it cannot return from (leaves_for_good() in shapes.h).
-// hit.normal and hit.front are left unset: hit_normal() fills them.
+// Nearest hit (nearest_among(), trace.h) among the objects whose bounds the
+// ray may hit. Objects whose bit is set in `skip` are not tested: the ray
+// leaves one of them on a side it cannot return from (leaves_for_good() in
+// shapes.h). hit.normal and hit.front are left unset: hit_normal() fills them.
 int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
-  hit.t = kHuge;
-  int found = -1;
-  u32 all = bound_mask(s, ray, range_mask(0, s.numObjects) & ~skip);
-  u32 foreground = range_mask(0, s.numForeground);
-  for (u32 m = all & foreground; m; m &= m - 1) {
-    int i = __builtin_ctz(m);
-    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
-  }
-  if (found >= 0) return found;
-  for (u32 m = all & ~foreground; m; m &= m - 1) {
-    int i = __builtin_ctz(m);
-    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
-  }
-  return found;
+  return nearest_among(s, ray, bound_mask(s, ray, range_mask(0, s.numObjects) & ~skip), hit);
 }
 
 // Light transmitted from p towards a light at distance `dist` along unit L:

@@ -82,6 +82,27 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
 int first_hit_object(const Scene& scene, const Ray& ray);
 int first_hit(const Scene& scene, const Ray& ray, Hit& hit);
 
+// The nearest hit among the objects whose bit is set in `candidates` (what
+// a bound test left): foreground objects first; background objects only
+// when no foreground object was hit (the background contract in scene.h).
+// hit.t is reset to kHuge first; returns the object index or -1, with hit's
+// t, piece and local (first_hit() and the packet tracer's scalar path).
+inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hit) {
+  hit.t = kHuge;
+  int found = -1;
+  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
+  for (u32 m = candidates & foreground; m; m &= m - 1) {
+    int i = __builtin_ctz(m);
+    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+  }
+  if (found >= 0) return found;
+  for (u32 m = candidates & ~foreground; m; m &= m - 1) {
+    int i = __builtin_ctz(m);
+    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+  }
+  return found;
+}
+
 // Pinhole camera set up once per frame: pixel (x, y) (x right, y down, both
 // from 0) looks through its centre (x + 0.5, y + 0.5). Made from a Scene,
 // it also holds `terms`, what every primary ray of that scene shares

@@ -272,21 +272,7 @@ int first_hit_primary(const Scene& s, const CameraRays& cam, Vec3 dir, Hit& hit)
     all |= (~lane_bits((b * b < c) | ((c > zero) & (b > zero))) & 15u) << g;
   }
   all &= (1u << s.numObjects) - 1;
-  // nearest(): foreground, then background when no foreground object was hit.
-  Ray ray{cam.org, dir};
-  hit.t = kHuge;
-  int found = -1;
-  u32 foreground = (1u << s.numForeground) - 1;
-  for (u32 m = all & foreground; m; m &= m - 1) {
-    int i = __builtin_ctz(m);
-    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
-  }
-  if (found >= 0) return found;
-  for (u32 m = all & ~foreground; m; m &= m - 1) {
-    int i = __builtin_ctz(m);
-    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
-  }
-  return found;
+  return nearest_among(s, Ray{cam.org, dir}, all, hit);
 }
 
 void first_hit_primary4(const Scene& scene, const CameraRays& cam, const Vec3 dir[4], int count,
@@ -343,15 +329,6 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
                     int count, Vec3 color[4], PathRecord* paths, RayStats* stats) {
   trace_lanes(scene, cam, load_lanes(x, count), load_lanes(y, count), (1u << count) - 1, color,
               paths, stats);
-}
-
-void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],
-                           const float y[4], int count, u32 packed[4], PathRecord* paths,
-                           RayStats* stats) {
-  Vec3 color[4];
-  trace_primary4(scene, cam, x, y, count, color, paths, stats);
-  for (int k = 0; k < count; ++k)
-    packed[k] = pack_color(color[k]);
 }
 
 void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,

@@ -38,9 +38,14 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
                     int count, Vec3 color[4], PathRecord* paths, RayStats* stats);
 
 // trace_primary4() packed for a framebuffer (pack_color()).
-void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],
-                           const float y[4], int count, u32 packed[4], PathRecord* paths,
-                           RayStats* stats);
+inline void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],
+                                  const float y[4], int count, u32 packed[4], PathRecord* paths,
+                                  RayStats* stats) {
+  Vec3 color[4];
+  trace_primary4(scene, cam, x, y, count, color, paths, stats);
+  for (int k = 0; k < count; ++k)
+    packed[k] = pack_color(color[k]);
+}
 
 // Full trace of rows [rowBegin, rowEnd) of a `width`-pixel-wide image into
 // fb (`stride` pixels per row), in packets of four pixels of a row:

@@ -46,15 +46,6 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
   stats->shadow += ctx.stats.shadow;
 }
 
-void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],
-                           const float y[4], int count, u32 packed[4], PathRecord* paths,
-                           RayStats* stats) {
-  Vec3 color[4];
-  trace_primary4(scene, cam, x, y, count, color, paths, stats);
-  for (int k = 0; k < count; ++k)
-    packed[k] = pack_color(color[k]);
-}
-
 void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
                   int rowBegin, int rowEnd, RayStats* stats) {
   TraceContext ctx{&scene, {0, 0, 0}, nullptr};

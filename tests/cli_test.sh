@@ -10,16 +10,7 @@
 # standard library). Output files: tests/output_test.sh.
 set -u
 RT64K=${1:?usage: cli_test.sh path/to/rt64k}
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-checks=0
-failures=0
-
-fail() {
-  failures=$((failures + 1))
-  echo "FAIL: $*"
-}
-pass() { checks=$((checks + 1)); }
+. "$(dirname "$0")/check-lib.sh"
 
 # A PNG is valid: signature, every chunk's CRC, IHDR of W x H, 8-bit RGB or
 # RGBA, IDAT inflating to exactly H rows of filter byte + W pixels, IEND last.
@@ -216,5 +207,4 @@ expect_usage_error "repeated --csv (bench)" bench --csv "$TMP/b1.csv" --csv "$TM
 expect_usage_error "audio without a value" audio --out
 expect_usage_error "audio, unknown option" audio --out "$TMP/a.wav" --rate 8000
 
-echo "cli_test: $checks checks passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish cli_test

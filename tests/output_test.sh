@@ -17,15 +17,7 @@ set -u
 ulimit -c 0 # SIGQUIT below must leave no core file in the folders it checks
 RT64K=${1:?usage: output_test.sh path/to/rt64k}
 case $RT64K in /*) ;; *) RT64K=$(pwd)/$RT64K ;; esac
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-checks=0
-failures=0
-fail() {
-  failures=$((failures + 1))
-  echo "FAIL: $*"
-}
-pass() { checks=$((checks + 1)); }
+. "$(dirname "$0")/check-lib.sh"
 is_root() { [ "$(id -u)" -eq 0 ]; }
 
 SIDE_CSV=$TMP/side.csv # the CSV of bench runs whose --plot is under test
@@ -472,5 +464,4 @@ expect_error "gnuplot killed" 'killed by signal 11' \
   env PATH="$fake" "$RT64K" $BENCH --csv "$SIDE_CSV" --plot "$d/killed.png"
 [ -e CANARY ] || [ -e "$d/CANARY" ] && fail "a CANARY appeared" || pass
 
-echo "output_test: $checks checks passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish output_test

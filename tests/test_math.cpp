@@ -273,40 +273,6 @@ TEST(Math, PowEdges) {
   EXPECT_TRUE(std::isfinite(rt_pow(3e38f, 100.0f)));
 }
 
-// ---------------------------------------------------------------- acos
-
-// rtmath.h: absolute error <= 2e-7 rad over [-1, 1].
-constexpr double kAcosAbs = 2e-7;
-
-TEST(Math, AcosAbsoluteErrorOverDomain) {
-  MaxErr m;
-  auto sample = [&](float x) { m.add(std::fabs(double(rt_acos(x)) - std::acos(double(x))), x); };
-  sweep(-1, 1, 4000000, [&](double x) { sample(float(x)); });
-  // Ends (where acos' slope is infinite) and the +-0.5 branch switches.
-  for (float c : {-1.0f, -0.5f, 0.5f, 1.0f}) {
-    float up = c, down = c;
-    sample(c);
-    for (int d = 0; d < 5000; ++d) {
-      if ((up = next_up(up, 1)) <= 1.0f) sample(up);
-      if ((down = next_up(down, -1)) >= -1.0f) sample(down);
-    }
-  }
-  std::mt19937 rng(31337);
-  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
-  for (int i = 0; i < 1000000; ++i)
-    sample(uni(rng));
-  report("rt_acos", "rad", m);
-  EXPECT_LE(m.err, kAcosAbs) << "at x = " << m.at;
-}
-
-TEST(Math, AcosClampsOutsideDomain) {
-  EXPECT_EQ(rt_acos(1.0f), 0.0f);
-  EXPECT_NEAR(rt_acos(-1.0f), 3.14159265358979, 2e-7);
-  EXPECT_EQ(rt_acos(1.5f), rt_acos(1.0f));
-  EXPECT_EQ(rt_acos(-7.0f), rt_acos(-1.0f));
-  EXPECT_EQ(rt_acos(std::numeric_limits<float>::infinity()), rt_acos(1.0f));
-}
-
 // ---------------------------------------------------------------- sqrt
 
 // rtmath.h: correctly rounded, i.e. within 0.5 ulp, over all floats >= 0.

@@ -1,6 +1,6 @@
 // rtmath.cpp - our own transcendental functions (no libm in the exe).
 // Formulas: Cody-Waite style reduction by pi/2 and Taylor polynomials
-// (Abramowitz & Stegun 4.3.65/4.3.66 for sin/cos, 4.4.46 for acos), the
+// (Abramowitz & Stegun 4.3.65/4.3.66 for sin/cos), the
 // atanh series for log (A&S 4.1.27). Truncation errors are stated per function;
 // test_math.cpp measures the total error against libm.
 #include "rtmath.h"
@@ -85,19 +85,4 @@ float rt_pow(float x, float y) {
   if (y == 0.0f) return 1.0f;
   if (!(x > 0.0f)) return 0.0f;
   return rt_exp2(y * rt_log2(x));
-}
-
-// Abramowitz & Stegun 4.4.46: acos(x) = sqrt(1 - x) (a0 + a1 x + ... + a7 x^7)
-// + e, |e| <= 2e-8 for 0 <= x <= 1; acos(-x) = pi - acos(x). The polynomial
-// runs in double (8 multiply-adds, no division, no loop): Cook-Torrance calls
-// this once per light per hit.
-float rt_acos(float x) {
-  constexpr double kPiD = 3.14159265358979324;
-  double z = rt_clamp(x, -1.0f, 1.0f);
-  double a = z < 0 ? -z : z;
-  double p = 1.5707963050 + a * (-0.2145988016 + a * (0.0889789874 + a * (-0.0501743046 +
-             a * (0.0308918810 + a * (-0.0170881256 + a * (0.0066700901 +
-             a * -0.0012624911))))));
-  double r = __builtin_sqrt(1 - a) * p;
-  return (float)(z < 0 ? kPiD - r : r);
 }

@@ -59,8 +59,6 @@ float rt_log2(float x);
 // z = y log2(x) in (-126, 127]: relative error <= 4e-7 (1 + |z|), the error
 // of log2 amplified by y.
 float rt_pow(float x, float y);
-// acos(x) for x in [-1, 1] (clamped); absolute error <= 2e-7 rad.
-float rt_acos(float x);
 
 struct Vec3 {
   float x, y, z;

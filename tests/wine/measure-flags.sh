@@ -55,7 +55,11 @@ configure_and_build() {
   shift
   cmake -S "$root/src/win32" -B "$work/$name" "${generator[@]}" \
     -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DRT64K_UPX="$upx" "$@" \
-    >"$work/$name.log" 2>&1
+    >"$work/$name.log" 2>&1 || {
+    echo "measure-flags.sh: configuring $name failed (a work folder left by another" \
+      "checkout? remove $work), see $work/$name.log" >&2
+    return 1
+  }
   cmake --build "$work/$name" --target intro >>"$work/$name.log" 2>&1 || {
     echo "build of $name failed, see $work/$name.log" >&2
     return 1
@@ -91,7 +95,11 @@ fps() {
     tr -d '\r' | sed -n 's/.* = \([0-9.]*\) fps, CPU \([0-9.]*\) s/\1 (\2 s)/p')
 }
 
-read -r base baseSections basePacked baseUnpadded < <(configure_and_build shipped)
+read -r base baseSections basePacked baseUnpadded < <(configure_and_build shipped) || true
+[ -n "${baseUnpadded:-}" ] || {
+  echo "measure-flags.sh: no shipped build to compare with (see the line above)" >&2
+  exit 1
+}
 sizeFlags=$(cache_list shipped RT64K_SIZE_FLAGS)
 linkFlags=$(cache_list shipped RT64K_LINK_FLAGS)
 upxOptions=$(cache_list shipped RT64K_UPX_OPTIONS)

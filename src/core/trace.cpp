@@ -63,12 +63,6 @@ u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist, u32 range) {
   return mask;
 }
 
-// True when p lies outside object i's bounding sphere (so outside the object).
-inline bool outside_bound(const Scene& s, int i, Vec3 p) {
-  float x = p.x - s.boundX[i], y = p.y - s.boundY[i], z = p.z - s.boundZ[i];
-  return x * x + y * y + z * z > s.boundR2[i];
-}
-
 inline u32 range_mask(int begin, int end) {
   return (end >= 32 ? ~0u : (1u << end) - 1) & ~((1u << begin) - 1);
 }
@@ -180,10 +174,19 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   Vec3 p = ray.org + ray.dir * hit.t;
   Vec3 color = s.ambient * m.color;
   float off = spawn_offset(p, spawn_scale(obj.shape, hit));
-  Vec3 lightOrg = spawn_origin(p, N, N, off);
+  // spawn_origin(p, N, N, off): dot(N, N) >= 0 always (N is finite).
+  Vec3 lightOrg = p + N * off;
   // A hit from inside a closed convex solid: lightOrg is inside it too (N
   // faces the ray), so a shadow ray to a light outside the solid's bound
-  // leaves it exactly once (transmittance's `exits`).
+  // leaves it exactly once (transmittance's `exits`). A shadow ray is cast
+  // only where N.L > 0, and leaves_for_good(obj.shape, hit, L) tests the
+  // same product (dot(L, N) = dot(N, L) bit for bit): it leaves for good
+  // when the shape is flat or the hit is on the front. So an inside hit's
+  // shadow ray never leaves for good, and it exits when the light is
+  // outside the bound: |light - centre|^2 > R^2, i.e. Scene::lightC > 0
+  // (a float difference is > 0 exactly when a > b).
+  bool flat = obj.shape.kind == kPlane || obj.shape.kind == kTriangle;
+  bool leavesToLight = flat || hit.front;
   bool inside = !hit.front && closed_convex(obj.shape);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
@@ -216,10 +219,9 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       // without a record, the colour is the same).
       Vec3 through = v3(1.0f);
       if (recordable || weight * max_abs(lit) >= kShadowSkip) {
-        bool leaves = leaves_for_good(obj.shape, hit, L);
-        bool exits = inside && !leaves && outside_bound(s, id, light.pos);
-        through =
-            transmittance(ctx, li, lightOrg, L, dist, code, leaves ? self : 0, exits ? self : 0);
+        bool exits = inside && s.lightC[li][id] > 0;
+        through = transmittance(ctx, li, lightOrg, L, dist, code, leavesToLight ? self : 0,
+                                exits ? self : 0);
       }
       bits = (u32)code;
       if (code != 3) {
@@ -233,9 +235,10 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   if (depth >= s.maxDepth) return color;
   if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
     Vec3 R = reflect(ray.dir, N);
+    float d = dot(R, N); // spawn_origin's and leaves_for_good's product
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, R, off), R}, depth + 1, weight * m.reflect,
-                   leaves_for_good(obj.shape, hit, R) ? self : 0) *
+    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), R}, depth + 1, weight * m.reflect,
+                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
              m.reflect;
   }
   if (m.transmit > 0 && weight * m.transmit >= kMinRayWeight) {
@@ -249,9 +252,10 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
     } else {
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
+    float d = dot(T, N);
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, T, off), T}, depth + 1, weight * m.transmit,
-                   leaves_for_good(obj.shape, hit, T) ? self : 0) *
+    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), T}, depth + 1, weight * m.transmit,
+                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
              m.transmit;
   }
   return color;

@@ -21,7 +21,7 @@ bool accept(float t, float tMin, u8 piece, float local, Hit& hit) {
 }
 
 // Writes the outward normal turned to face the ray, and hit.front.
-void face(Vec3 outward, const Ray& ray, Hit& hit) {
+__attribute__((always_inline)) inline void face(Vec3 outward, const Ray& ray, Hit& hit) {
   bool front = dot(outward, ray.dir) < 0;
   hit.normal = front ? outward : -outward;
   hit.front = front;

@@ -19,7 +19,7 @@ typedef float f4 __attribute__((vector_size(16)));
 // per step with SSE. Per bound: f = org - centre, b = f.d, c = |f|^2 - r^2;
 // a miss when the ray passes beside (b^2 < c), or starts outside (c > 0) and
 // points away (b > 0).
-u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
+__attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
   u32 mask = s.unboundedMask & range;
   f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
   f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};

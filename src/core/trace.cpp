@@ -155,14 +155,7 @@ Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
   int id = nearest(*ctx.scene, ray, hit, skip);
-  if (id < 0) {
-    // trace_hit()'s miss, without its frame set up: the record's node 0.
-    PathRecord* rec = ctx.record;
-    if (rec && depth <= kRecordDepth && weight >= kRecordWeight && rec->count < kMaxPathNodes)
-      rec->node[rec->count++] = 0;
-    return ctx.scene->background;
-  }
-  return trace_hit(ctx, ray, id, hit, depth, weight);
+  return id < 0 ? trace_miss(ctx, depth, weight) : trace_hit(ctx, ray, id, hit, depth, weight);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {

@@ -316,7 +316,8 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
       ctx.record = &paths[k];
     }
     ++ctx.stats.primary;
-    color[k] = trace_hit(ctx, Ray{cam.org, d.lane(k)}, id, hit, 1, 1.0f);
+    color[k] = id < 0 ? trace_miss(ctx, 1, 1.0f)
+                      : trace_hit(ctx, Ray{cam.org, d.lane(k)}, id, hit, 1, 1.0f);
   }
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;

@@ -1074,6 +1074,76 @@ TEST(OpenFrustum, InnerWallSeenThroughOpening) {
   EXPECT_GT(inner, 200); // some of them do land on the inner wall
 }
 
+// hit_frustum's cull (shapes.cpp, kCullRim): a ray that the frame solves
+// from its point nearest the axis (u.u >= 0.5: more than 45 deg off the
+// axis) and that passes farther than max(r0, r1) + 1024 rim from the axis
+// line is rejected before the quadratic. Every frustum point lies within
+// max(r0, r1) of that line, so such a ray misses exactly. Seeded rays on
+// both sides of the frustum's reach: lines at distance max(r0, r1) (1 +
+// 2^-10 .. 2) from the axis (beyond the band) must miss, and lines through
+// an interior point of the closed solid must hit it from outside, for a
+// closed cylinder, a cone with its apex and a closed frustum with random
+// axes; the rays in the cull's regime (by its documented rule, in double)
+// are counted so that both sides of its reach are exercised.
+TEST(FrustumCull, BeyondTheReachMissesInsideHits) {
+  Rng g(4242);
+  long beyond = 0, outsideNear = 0;
+  for (int kind = 0; kind < 3; ++kind) {
+    for (int shape = 0; shape < 20; ++shape) {
+      D3 axis = rand_unit(g), base{uni(g, -3, 3), uni(g, -1, 3), uni(g, -3, 3)};
+      double r0 = uni(g, 0.3, 1.5), h = uni(g, 0.5, 4);
+      double r1 = kind == 0 ? r0 : (kind == 1 ? 0 : r0 * uni(g, 0.3, 0.9));
+      Shape s = kind == 0
+                    ? make_cylinder(fv(base), fv(axis), float(r0), float(h), kCapBase | kCapTop)
+                    : make_cone(fv(base), fv(axis), float(r0), float(r1), float(h),
+                                kind == 1 ? kCapBase : kCapBase | kCapTop);
+      ASSERT_NE(s.kind, kEmpty);
+      D3 a = dv(s.b), b0 = dv(s.a); // the stored axis and base
+      double rmax = std::max<double>(s.r0, s.r1), size = h + rmax;
+      for (int i = 0; i < 1000; ++i) {
+        // Beyond the reach: the line through P along d, n perpendicular to
+        // both d and the axis, is rho from the axis line.
+        D3 d = rand_unit(g);
+        if (i % 2 == 0) { // half of them more than 45 deg off the axis
+          D3 e1, e2;
+          frame(a, e1, e2);
+          double c = uni(g, -0.69, 0.69), ph = uni(g, 0, 2 * M_PI), sn = std::sqrt(1 - c * c);
+          d = a * c + e1 * (sn * std::cos(ph)) + e2 * (sn * std::sin(ph));
+        }
+        D3 n = cross(d, a);
+        if (norm(n) < 1e-3) continue;
+        n = unit(n);
+        double rho = rmax * (1 + loguni(g, 1.0 / 1024, 2));
+        D3 p = b0 + a * uni(g, -0.5 * h, 1.5 * h) + n * rho;
+        Vec3 o = fv(p - d * (size * uni(g, 2, 6))), fd = fdir(d);
+        Cast c = cast(s, o, fd);
+        EXPECT_FALSE(c.hit) << "kind " << kind << " shape " << shape << " ray " << i;
+        D3 w = dv(o) - b0, dd = dv(fd);
+        D3 u = dd - a * dot(dd, a);
+        double rim = (maxabs(w) + s.c.y) / 1048576;
+        if (dot(u, u) >= 0.5 && rho > rmax + 1024 * rim)
+          ++beyond;
+        else
+          ++outsideNear;
+        // Through an interior point of the closed solid: a hit from outside.
+        double y = uni(g, 0.05, 0.95) * h, ry = (r0 + (r1 - r0) * y / h) * uni(g, 0, 0.95);
+        D3 e1, e2;
+        frame(a, e1, e2);
+        double ph = uni(g, 0, 2 * M_PI);
+        D3 q = b0 + a * y + e1 * (ry * std::cos(ph)) + e2 * (ry * std::sin(ph));
+        D3 d2 = rand_unit(g);
+        Vec3 o2 = fv(q - d2 * (size * uni(g, 2, 6))), fd2 = fdir(d2);
+        Cast c2 = cast(s, o2, fd2);
+        EXPECT_TRUE(c2.hit && c2.h.front) << "kind " << kind << " shape " << shape << " ray " << i;
+      }
+    }
+  }
+  std::printf("frustum cull: %ld rays beyond the reach in the cull's regime, %ld outside it\n",
+              beyond, outsideNear);
+  EXPECT_GT(beyond, 15000);
+  EXPECT_GT(outsideNear, 15000);
+}
+
 // A cast at a hard case: a hit is valid and on the surface within kSurfTol of
 // the scale of its numbers; a miss leaves the Hit untouched. `i` labels the case.
 void expect_on_surface_or_untouched(const Shape& s, Vec3 o, Vec3 fd, const char* what, int i) {

@@ -203,6 +203,12 @@ inline bool leaves_for_good(const Shape& s, const Hit& hit, Vec3 dir) {
   float d = dot(dir, hit.normal);
   return hit.front ? d > 0 : d < 0;
 }
+// leaves_for_good() given d = dot(dir, hit.normal), for a caller that has it
+// already (spawn_origin_dot() needs the same product).
+inline bool leaves_for_good_dot(const Shape& s, const Hit& hit, float d) {
+  if (s.kind == kPlane || s.kind == kTriangle) return true;
+  return hit.front ? d > 0 : d < 0;
+}
 
 // True for a closed convex solid: a sphere, or a frustum whose every disc of
 // nonzero radius is capped (a cone's apex needs none). A ray from a point
@@ -218,4 +224,8 @@ inline bool closed_convex(const Shape& s) {
 // once per hit) to the side of the surface that dir goes to.
 inline Vec3 spawn_origin(Vec3 p, Vec3 n, Vec3 dir, float offset) {
   return p + n * (dot(dir, n) >= 0 ? offset : -offset);
+}
+// spawn_origin() given d = dot(dir, n).
+inline Vec3 spawn_origin_dot(Vec3 p, Vec3 n, float d, float offset) {
+  return p + n * (d >= 0 ? offset : -offset);
 }

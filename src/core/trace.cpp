@@ -19,7 +19,7 @@ typedef float f4 __attribute__((vector_size(16)));
 // per step with SSE. Per bound: f = org - centre, b = f.d, c = |f|^2 - r^2;
 // a miss when the ray passes beside (b^2 < c), or starts outside (c > 0) and
 // points away (b > 0).
-u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
+__attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
   u32 mask = s.unboundedMask & range;
   f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
   f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};
@@ -63,12 +63,6 @@ u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist, u32 range) {
   return mask;
 }
 
-// True when p lies outside object i's bounding sphere (so outside the object).
-inline bool outside_bound(const Scene& s, int i, Vec3 p) {
-  float x = p.x - s.boundX[i], y = p.y - s.boundY[i], z = p.z - s.boundZ[i];
-  return x * x + y * y + z * z > s.boundR2[i];
-}
-
 inline u32 range_mask(int begin, int end) {
   return (end >= 32 ? ~0u : (1u << end) - 1) & ~((1u << begin) - 1);
 }
@@ -77,7 +71,10 @@ inline u32 range_mask(int begin, int end) {
 // ray may hit. Objects whose bit is set in `skip` are not tested: the ray
 // leaves one of them on a side it cannot return from (leaves_for_good() in
 // shapes.h). hit.normal and hit.front are left unset: hit_normal() fills them.
-int nearest(const Scene& s, const Ray& ray, Hit& hit, u32 skip = 0) {
+// Inlined into trace(), which is little more than this and trace_hit():
+// the call and its register saves cost ~20 instructions a secondary ray.
+__attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray, Hit& hit,
+                                                  u32 skip = 0) {
   return nearest_among(s, ray, bound_mask(s, ray, range_mask(0, s.numObjects) & ~skip), hit);
 }
 
@@ -158,7 +155,7 @@ Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
   int id = nearest(*ctx.scene, ray, hit, skip);
-  return trace_hit(ctx, ray, id, hit, depth, weight);
+  return id < 0 ? trace_miss(ctx, depth, weight) : trace_hit(ctx, ray, id, hit, depth, weight);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
@@ -180,10 +177,19 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   Vec3 p = ray.org + ray.dir * hit.t;
   Vec3 color = s.ambient * m.color;
   float off = spawn_offset(p, spawn_scale(obj.shape, hit));
-  Vec3 lightOrg = spawn_origin(p, N, N, off);
+  // spawn_origin(p, N, N, off): dot(N, N) >= 0 always (N is finite).
+  Vec3 lightOrg = p + N * off;
   // A hit from inside a closed convex solid: lightOrg is inside it too (N
   // faces the ray), so a shadow ray to a light outside the solid's bound
-  // leaves it exactly once (transmittance's `exits`).
+  // leaves it exactly once (transmittance's `exits`). A shadow ray is cast
+  // only where N.L > 0, and leaves_for_good(obj.shape, hit, L) tests the
+  // same product (dot(L, N) = dot(N, L) bit for bit): it leaves for good
+  // when the shape is flat or the hit is on the front. So an inside hit's
+  // shadow ray never leaves for good, and it exits when the light is
+  // outside the bound: |light - centre|^2 > R^2, i.e. Scene::lightC > 0
+  // (a float difference is > 0 exactly when a > b).
+  bool flat = obj.shape.kind == kPlane || obj.shape.kind == kTriangle;
+  bool leavesToLight = flat || hit.front;
   bool inside = !hit.front && closed_convex(obj.shape);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
@@ -216,10 +222,9 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       // without a record, the colour is the same).
       Vec3 through = v3(1.0f);
       if (recordable || weight * max_abs(lit) >= kShadowSkip) {
-        bool leaves = leaves_for_good(obj.shape, hit, L);
-        bool exits = inside && !leaves && outside_bound(s, id, light.pos);
-        through =
-            transmittance(ctx, li, lightOrg, L, dist, code, leaves ? self : 0, exits ? self : 0);
+        bool exits = inside && s.lightC[li][id] > 0;
+        through = transmittance(ctx, li, lightOrg, L, dist, code, leavesToLight ? self : 0,
+                                exits ? self : 0);
       }
       bits = (u32)code;
       if (code != 3) {
@@ -233,9 +238,10 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   if (depth >= s.maxDepth) return color;
   if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
     Vec3 R = reflect(ray.dir, N);
+    float d = dot(R, N); // spawn_origin's and leaves_for_good's product
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, R, off), R}, depth + 1, weight * m.reflect,
-                   leaves_for_good(obj.shape, hit, R) ? self : 0) *
+    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), R}, depth + 1, weight * m.reflect,
+                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
              m.reflect;
   }
   if (m.transmit > 0 && weight * m.transmit >= kMinRayWeight) {
@@ -249,9 +255,10 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
     } else {
       T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     }
+    float d = dot(T, N);
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin(p, N, T, off), T}, depth + 1, weight * m.transmit,
-                   leaves_for_good(obj.shape, hit, T) ? self : 0) *
+    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), T}, depth + 1, weight * m.transmit,
+                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
              m.transmit;
   }
   return color;

@@ -316,7 +316,8 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
       ctx.record = &paths[k];
     }
     ++ctx.stats.primary;
-    color[k] = trace_hit(ctx, Ray{cam.org, d.lane(k)}, id, hit, 1, 1.0f);
+    color[k] = id < 0 ? trace_miss(ctx, 1, 1.0f)
+                      : trace_hit(ctx, Ray{cam.org, d.lane(k)}, id, hit, 1, 1.0f);
   }
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
@@ -331,6 +332,28 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
               paths, stats);
 }
 
+namespace {
+
+// One channel of pack_color() (trace.cpp) in four lanes: 0 for v <= 0 and
+// NaN, 255 for v >= 1, else (int)(v * 255 + 0.5), truncated as the scalar
+// cast does (the value is in (0.5, 255.5)), so each lane is its result.
+i4 channel4(f4 v) {
+  i4 q = __builtin_ia32_cvttps2dq(v * f4_of(255.0f) + f4_of(0.5f));
+  q = v >= f4_of(1.0f) ? i4_of(255) : q;
+  return v > f4_of(0.0f) ? q : i4_of(0);
+}
+
+// pack_color() of four colours at once: the same words.
+void pack_color4(const Vec3 color[4], u32 out[4]) {
+  f4 r = {color[0].x, color[1].x, color[2].x, color[3].x};
+  f4 g = {color[0].y, color[1].y, color[2].y, color[3].y};
+  f4 b = {color[0].z, color[1].z, color[2].z, color[3].z};
+  i4 word = i4_of((i32)0xff000000u) | channel4(r) << 16 | channel4(g) << 8 | channel4(b);
+  __builtin_memcpy(out, &word, 16);
+}
+
+} // namespace
+
 void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
                   int rowBegin, int rowEnd, RayStats* stats) {
   Vec3 color[4];
@@ -342,8 +365,12 @@ void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width,
       for (int k = n; k < 4; ++k)
         lx[k] = (float)x; // idle lanes repeat lane 0
       trace_lanes(scene, cam, lx, f4_of((float)y), (1u << n) - 1, color, nullptr, stats);
-      for (int k = 0; k < n; ++k)
-        row[x + k] = pack_color(color[k]);
+      if (n == 4) {
+        pack_color4(color, row + x);
+      } else {
+        for (int k = 0; k < n; ++k)
+          row[x + k] = pack_color(color[k]);
+      }
     }
   }
 }

@@ -14,7 +14,13 @@ set(RT64K_CODE_SIZE_FLAGS
     -fno-tree-vectorize            # GCC 12 vectorises at -O2: scalar code here
     -fno-inline-functions          # -O2's inlining of non-small functions
     -fno-schedule-insns2 -fno-reorder-blocks # scheduling, block reordering
-    -falign-functions=1 -falign-jumps=1 -falign-loops=1 -falign-labels=1) # no padding
+    -falign-functions=1 -falign-jumps=1 -falign-loops=1 -falign-labels=1 # no padding
+    # Issue 11, round three: each of these made the packed exe smaller and
+    # the renderer's instruction count (callgrind, render_frame at 12, 44 and
+    # 58.75 s) no larger; together -610 bytes packed (no padding), -1.0 to
+    # -1.3 % instructions, the same PNGs (docs/win32.md "Round three").
+    -fno-tree-fre -fno-code-hoisting -fno-tree-scev-cprop -fno-strict-aliasing
+    -fno-move-loop-invariants -fira-region=one)
 set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti
     -fno-tree-loop-distribute-patterns -O2 ${RT64K_CODE_SIZE_FLAGS})
 

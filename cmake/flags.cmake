@@ -17,10 +17,12 @@ set(RT64K_CODE_SIZE_FLAGS
     -falign-functions=1 -falign-jumps=1 -falign-loops=1 -falign-labels=1 # no padding
     # Issue 11, round three: each of these made the packed exe smaller and
     # the renderer's instruction count (callgrind, render_frame at 12, 44 and
-    # 58.75 s) no larger; together -610 bytes packed (no padding), -1.0 to
-    # -1.3 % instructions, the same PNGs (docs/win32.md "Round three").
+    # 58.75 s) no larger, the same PNGs (docs/win32.md "Round three"): the
+    # first six -610 bytes packed (no padding), -1.0 to -1.3 % instructions;
+    # the last two -80 bytes more, a further -1.3 to -1.9 %.
     -fno-tree-fre -fno-code-hoisting -fno-tree-scev-cprop -fno-strict-aliasing
-    -fno-move-loop-invariants -fira-region=one)
+    -fno-move-loop-invariants -fira-region=one
+    -fno-tree-forwprop -fno-tree-tail-merge)
 set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti
     -fno-tree-loop-distribute-patterns -O2 ${RT64K_CODE_SIZE_FLAGS})
 

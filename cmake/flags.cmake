@@ -14,7 +14,15 @@ set(RT64K_CODE_SIZE_FLAGS
     -fno-tree-vectorize            # GCC 12 vectorises at -O2: scalar code here
     -fno-inline-functions          # -O2's inlining of non-small functions
     -fno-schedule-insns2 -fno-reorder-blocks # scheduling, block reordering
-    -falign-functions=1 -falign-jumps=1 -falign-loops=1 -falign-labels=1) # no padding
+    -falign-functions=1 -falign-jumps=1 -falign-loops=1 -falign-labels=1 # no padding
+    # Issue 11, round three: each of these made the packed exe smaller and
+    # the renderer's instruction count (callgrind, render_frame at 12, 44 and
+    # 58.75 s) no larger, the same PNGs (docs/win32.md "Round three"): the
+    # first six -610 bytes packed (no padding), -1.0 to -1.3 % instructions;
+    # the last two -80 bytes more, a further -1.3 to -1.9 %.
+    -fno-tree-fre -fno-code-hoisting -fno-tree-scev-cprop -fno-strict-aliasing
+    -fno-move-loop-invariants -fira-region=one
+    -fno-tree-forwprop -fno-tree-tail-merge)
 set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti
     -fno-tree-loop-distribute-patterns -O2 ${RT64K_CODE_SIZE_FLAGS})
 
@@ -25,4 +33,7 @@ set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti
 # tests still test what ships. Paths relative to the repository root.
 set(RT64K_COLD_SOURCES scenes/scenes.cpp src/core/scene.cpp src/core/shapes_build.cpp
     src/core/overlay.cpp src/core/synth.cpp)
-set(RT64K_COLD_FLAGS -Os)
+# The -fno flags: each makes the packed exe smaller here (docs/win32.md
+# "Round three"); the synth's time and samples unchanged.
+set(RT64K_COLD_FLAGS -Os -fno-move-loop-invariants -fno-code-hoisting -fno-tree-dominator-opts
+    -fno-caller-saves)

@@ -53,7 +53,7 @@ if(RT64K_HAVE_MINGW)
     # apply whenever this step runs again.
     CMAKE_ARGS -URT64K_WIN32_OPT -URT64K_SIZE_FLAGS -URT64K_LINK_FLAGS -URT64K_LTO_FLAGS
                -URT64K_LINKER_SCRIPT -URT64K_UPX_OPTIONS -URT64K_CORE_EXTRA -URT64K_FEATURES
-               -URT64K_EXTRA_LIBS -URT64K_PACKETS
+               -URT64K_EXTRA_LIBS -URT64K_PACKETS -URT64K_HOT_EXTRA -URT64K_COLD_EXTRA
                -DCMAKE_TOOLCHAIN_FILE=${CMAKE_SOURCE_DIR}/cmake/mingw-w64-x86_64.cmake
                -DCMAKE_BUILD_TYPE=Release -DRT64K_UPX=${RT64K_UPX}
     # The sub-build's own dependency scan decides what to recompile.

@@ -15,7 +15,8 @@ int changed_pixels(float t) {
   std::vector<uint32_t> fb(kW * kH, kGrey);
   overlay_draw(fb.data(), kW, kH, kW, t);
   int n = 0;
-  for (uint32_t p : fb) n += p != kGrey;
+  for (uint32_t p : fb)
+    n += p != kGrey;
   return n;
 }
 
@@ -25,7 +26,7 @@ TEST(Overlay, EveryCaptionShowsInsideItsTimesAndNothingOutside) {
     const Caption& c = kCaptions[i];
     float mid = 0.5f * (c.start + c.end);
     EXPECT_FLOAT_EQ(caption_alpha(c, mid), 1.0f) << c.text;
-    EXPECT_GT(changed_pixels(mid), 500) << c.text;  // a line of text at scale 3+
+    EXPECT_GT(changed_pixels(mid), 500) << c.text; // a line of text at scale 3+
     EXPECT_EQ(caption_alpha(c, c.start - 0.01f), 0.0f) << c.text;
     EXPECT_EQ(caption_alpha(c, c.end + 0.01f), 0.0f) << c.text;
   }
@@ -35,6 +36,29 @@ TEST(Overlay, EveryCaptionShowsInsideItsTimesAndNothingOutside) {
       ASSERT_FALSE(t > kCaptions[i].start && t < kCaptions[i].end) << "pick another time";
     EXPECT_EQ(changed_pixels(t), 0) << "t=" << t;
   }
+}
+
+// The font holds only the characters the captions use: each caption
+// character has a glyph (or is a space or a line break), and characters no
+// caption uses have none.
+TEST(Overlay, FontHoldsEveryCaptionCharacter) {
+  bool used[256] = {};
+  for (int i = 0; i < kCaptionCount; ++i)
+    for (const char* p = kCaptions[i].text; *p; ++p) {
+      used[(unsigned char)*p] = true;
+      if (*p != ' ' && *p != '\n')
+        EXPECT_GE(overlay_glyph(*p), 0) << "'" << *p << "' in " << kCaptions[i].text;
+    }
+  int glyphs = 0;
+  for (int ch = 1; ch < 256; ++ch) {
+    int g = overlay_glyph((char)ch);
+    if (g < 0) continue;
+    ++glyphs;
+    EXPECT_TRUE(used[ch]) << "glyph for '" << (char)ch << "' that no caption uses";
+  }
+  EXPECT_EQ(glyphs, 29);
+  EXPECT_EQ(overlay_glyph(' '), -1);
+  EXPECT_EQ(overlay_glyph('J'), -1);
 }
 
 TEST(Overlay, FadesInAndOutSmoothly) {
@@ -73,4 +97,4 @@ TEST(Overlay, TitleIsWhiteOverAShadowAndFramesOfAnySizeAreSafe) {
   }
 }
 
-}  // namespace
+} // namespace

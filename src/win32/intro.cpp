@@ -19,6 +19,10 @@
 #include "synth.h"
 #include "text.h"
 
+// The exe's own module handle is its load address, which GNU ld (as MSVC's
+// linker) names __ImageBase: GetModuleHandleA(nullptr) without the import.
+extern "C" IMAGE_DOS_HEADER __ImageBase;
+
 namespace {
 
 // The picture's own size: the window's client area, and what /f /scaled
@@ -132,17 +136,14 @@ DWORD WINAPI render_worker(void* parameter) {
 }
 
 // The music's precalc thread: renders the loop into `parameter` (two loops'
-// room, VirtualAlloc'ed, so zero-filled) and copies it after itself. Its
-// scratch is freed at once. Without scratch memory the samples stay zero:
-// the intro then runs on the audio clock in silence.
+// room, VirtualAlloc'ed, so zero-filled) and copies it after itself. The
+// synth's scratch (237 KiB) lives on this thread's stack, within the exe's
+// 2-MB stack reserve (the probe ___chkstk_ms commits it page by page), and
+// goes when the thread ends: no allocation, nothing to free.
 DWORD WINAPI synth_worker(void* parameter) {
   short* samples = (short*)parameter;
-  float* scratch = (float*)VirtualAlloc(nullptr, kSynthScratchFloats * sizeof(float),
-                                        MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
-  if (scratch) {
-    synth_render(samples, scratch);
-    VirtualFree(scratch, 0, MEM_RELEASE);
-  }
+  float scratch[kSynthScratchFloats];
+  synth_render(samples, scratch);
   memcpy(samples + kAudioFrames * kShortsPerFrame, samples, kLoopBytes);
   return 0;
 }
@@ -234,7 +235,9 @@ void write_bench_report(const char* text, DWORD length) {
 double process_cpu_seconds() {
   constexpr double kFileTimeTick = 1e-7; // FILETIME counts 100-ns ticks
   FILETIME creation, exit, kernel, user;
-  if (!GetProcessTimes(GetCurrentProcess(), &creation, &exit, &kernel, &user)) return 0.0;
+  // (HANDLE)-1: the pseudo handle GetCurrentProcess() returns, a documented
+  // constant; one import less.
+  if (!GetProcessTimes((HANDLE)-1, &creation, &exit, &kernel, &user)) return 0.0;
   auto ticks = [](FILETIME f) { return (double)(((u64)f.dwHighDateTime << 32) | f.dwLowDateTime); };
   return (ticks(kernel) + ticks(user)) * kFileTimeTick;
 }
@@ -419,7 +422,7 @@ bool idle_while_minimised(HWND window) {
   BITMAPINFO dib = {{sizeof(BITMAPINFOHEADER), f.width, -f.height, 1, 32, BI_RGB, 0, 0, 0, 0, 0},
                     {}};
 
-  HINSTANCE instance = GetModuleHandleA(nullptr);
+  HINSTANCE instance = (HINSTANCE)&__ImageBase; // = GetModuleHandleA(nullptr)
   WNDCLASSA windowClass = {};
   windowClass.style = CS_OWNDC; // one DC kept for the whole run
   windowClass.lpfnWndProc = window_proc;

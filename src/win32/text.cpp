@@ -150,6 +150,16 @@ void append(TextBuffer& b, const char* s) {
   *b.at = '\0';
 }
 
+namespace {
+
+// One character (what append of a one-character string does).
+void append_char(TextBuffer& b, char c) {
+  if (b.at + 1 < b.end) *b.at++ = c;
+  *b.at = '\0';
+}
+
+} // namespace
+
 void append_uint(TextBuffer& b, unsigned long long v) {
   char digits[24]; // 2^64 has 20 decimal digits
   int n = 0;
@@ -157,11 +167,8 @@ void append_uint(TextBuffer& b, unsigned long long v) {
     digits[n++] = (char)('0' + v % 10);
     v /= 10;
   } while (v);
-  char one[2] = {0, 0};
-  while (n) {
-    one[0] = digits[--n];
-    append(b, one);
-  }
+  while (n)
+    append_char(b, digits[--n]);
 }
 
 void append_fixed(TextBuffer& b, double v, int decimals) {
@@ -177,7 +184,7 @@ void append_fixed(TextBuffer& b, double v, int decimals) {
   if (v < 0) {
     v = -v;
     // Only print the sign when something non-zero follows it.
-    if (v * (double)scale >= 0.5) append(b, "-");
+    if (v * (double)scale >= 0.5) append_char(b, '-');
   }
   u64 whole = (u64)v;
   u64 frac = (u64)((v - (double)whole) * (double)scale + 0.5);
@@ -187,11 +194,9 @@ void append_fixed(TextBuffer& b, double v, int decimals) {
   }
   append_uint(b, whole);
   if (decimals == 0) return;
-  append(b, ".");
-  for (u64 s = scale / 10; s > 0; s /= 10) {
-    char one[2] = {(char)('0' + frac / s % 10), 0};
-    append(b, one);
-  }
+  append_char(b, '.');
+  for (u64 s = scale / 10; s > 0; s /= 10)
+    append_char(b, (char)('0' + frac / s % 10));
 }
 
 int text_length(const TextBuffer& b) { return (int)(b.at - b.begin); }

@@ -138,7 +138,7 @@ pack_row() {
   line "$label" "$base" "$baseSections" "$(stat -c %s "$work/repack.exe")" "$(unpadded "$work/repack.exe")"
   echo
 }
-row "shipped (src/win32 -Oz, core -O2 and its cold sources -Os as in flags.cmake, LTO, intro.ld, UPX $upxOptions)" shipped
+row "shipped (src/win32 -Os, core -O2 and its cold sources -Os as in flags.cmake, LTO, intro.ld, UPX $upxOptions)" shipped
 # The packer's options, on the shipped exe.
 pack_row "UPX --best (NRV2B)" --best
 pack_row "UPX --best --nrv2d" --best --nrv2d
@@ -149,7 +149,16 @@ row "without the linker script intro.ld (ld's default sections)" no_script -DRT6
 row "with -fdata-sections (the zero-initialised global in .data, with file bytes)" data_sections \
   "-DRT64K_SIZE_FLAGS=$sizeFlags;-fdata-sections"
 row "without LTO" no_lto -DRT64K_LTO_FLAGS=
-row "src/win32 at -Os instead of -Oz" win32_Os -DRT64K_WIN32_OPT=-Os
+win32Opt=$(cache_list shipped RT64K_WIN32_OPT)
+row "src/win32 at -Oz instead of -Os" win32_Oz "-DRT64K_WIN32_OPT=-Oz;$(without "$win32Opt" -Os)"
+# Round three (docs/win32.md): each group of measures taken back.
+row "core: without round three's -fno flags (-ftree-fre -fcode-hoisting -ftree-scev-cprop -fstrict-aliasing -fmove-loop-invariants -fira-region=mixed -ftree-forwprop -ftree-tail-merge)" round3_core \
+  "-DRT64K_CORE_EXTRA=-ftree-fre;-fcode-hoisting;-ftree-scev-cprop;-fstrict-aliasing;-fmove-loop-invariants;-fira-region=mixed;-ftree-forwprop;-ftree-tail-merge"
+row "cold sources and src/win32: without round three's -fno flags (-fmove-loop-invariants -fcode-hoisting -ftree-dominator-opts -fcaller-saves)" round3_cold \
+  "-DRT64K_COLD_EXTRA=-fmove-loop-invariants;-fcode-hoisting;-ftree-dominator-opts;-fcaller-saves" \
+  -DRT64K_WIN32_OPT=-Os
+sed 's/^    \*(\.text\$\*)$/    *(SORT(.text$*))/' "$root/src/win32/intro.ld" >"$work/sorted.ld"
+row "intro.ld: functions sorted by name (as before round three)" sorted_ld -DRT64K_LINKER_SCRIPT="$work/sorted.ld"
 row "core: GCC's vectoriser on (-ftree-vectorize)" vectorize -DRT64K_CORE_EXTRA=-ftree-vectorize
 row "core: -finline-functions (-O2's default)" inline_functions -DRT64K_CORE_EXTRA=-finline-functions
 row "core: -fno-tree-pre -fno-gcse (not shipped: measured -128 bytes under whole-exe LTO, +32 without)" pre \
@@ -161,7 +170,7 @@ row "core: code aligned to 16 bytes (-falign-functions/jumps/loops=16)" align \
 row "core: -fno-tree-ch -fno-thread-jumps (not shipped: +1.3-1.8 % instructions)" tree_ch \
   "-DRT64K_CORE_EXTRA=-fno-tree-ch;-fno-thread-jumps"
 # The flags measured before issue 11.
-row "src/win32 at -O2 instead of -Oz" win32_O2 -DRT64K_WIN32_OPT=-O2
+row "src/win32 at -O2 instead of -Os" win32_O2 -DRT64K_WIN32_OPT=-O2
 row "core (src/core, scenes) at -Os instead of -O2" core_Os -DRT64K_CORE_EXTRA=-Os
 # Unwind tables (.pdata) and no --gc-sections keep every function alive.
 # (winmm is linked anyway since the music plays; -lwinmm is kept for builds

@@ -34,20 +34,21 @@ enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 // kEstimateContrast / 255: the midpoint takes their record and the rounded
 // mean of their colours, also where a block traced per pixel needs it.
 // Measured in docs/speed-vs-error.md: at 16 (issue 9's first round) -11 %
-// samples; at 4 (second round) less flicker for a few more samples. Kept
-// where a block is traced per pixel since the third round (-2 % samples).
-constexpr int kEstimateContrast = 4;
+// samples; at 4 (second round) less flicker for a few more samples; at 8
+// and kept where a block is traced per pixel (third round), paid for in
+// flicker by the glass rule below.
+constexpr int kEstimateContrast = 8;
 
 // A block whose corners see a transparent object (at any recorded depth) is
-// copied or interpolated only when it is at most kGlassBlock pixels wide and
-// high or no colour channel of its corners spans more than kGlassContrast /
-// 255, else split. Glass shows a minified image of what lies behind and
-// around it, whose edges partly go unrecorded (deeper than kRecordDepth, or
-// reflections weaker than kRecordWeight): most of the flicker was in glass
-// blocks of 4 px interpolated from corners that differ. Measured in
-// docs/speed-vs-error.md (third round: at most 4 px always, before).
-constexpr int kGlassBlock = 2;
-constexpr int kGlassContrast = 8;
+// copied or interpolated only when no colour channel of its corners spans
+// more than kGlassContrast[0] / 255 (kGlassContrast[1] / 255 at the minimum
+// size), else split (traced per pixel at the minimum size). Glass shows a
+// minified image of what lies behind and around it, whose edges partly go
+// unrecorded (deeper than kRecordDepth, or reflections weaker than
+// kRecordWeight): most of the flicker was in glass blocks interpolated from
+// corners whose colours differ. Measured in docs/speed-vs-error.md (before
+// the third round: split down to 4 px whatever the colours).
+constexpr int kGlassContrast[2] = {16, 24};
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
@@ -58,9 +59,9 @@ constexpr int kGlassContrast = 8;
 // by more than that. Most of the blocks traced per pixel were of this kind:
 // edges of faint shadows and highlights, two surfaces of similar colour
 // meeting. Measured in docs/speed-vs-error.md (second round, 12 and 6:
-// -19 % samples, flicker as before; third round, 24 and 12, spending the
+// -19 % samples, flicker as before; third round, 32 and 16, spending the
 // flicker that the glass rule's change saves).
-constexpr int kSmallContrast[2] = {24, 12};
+constexpr int kSmallContrast[2] = {32, 16};
 
 struct Edge {
   Sample* s;
@@ -393,8 +394,9 @@ void process_group(Context& c, Node* nodes, int count) {
       if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
     }
     // Not split: the four records are equal, so c00's stands for all.
-    else if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) &&
-             !low_contrast(c00, c10, c01, c11, kGlassContrast) && sees_glass(f, c00))
+    else if (n.kind != kSplit &&
+             !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
+             sees_glass(f, c00))
       n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);

@@ -3,6 +3,7 @@
 // the same picture for any thread count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -250,18 +251,18 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
 }
 
 // Small blocks whose records differ are interpolated when their corners'
-// colours span at most kSmallContrast per channel: 12/255 at the minimum
-// size (2 px), 6/255 up to twice it; else split down to 2 px and traced
+// colours span at most kSmallContrast per channel: 32/255 at the minimum
+// size (2 px), 16/255 up to twice it; else split down to 2 px and traced
 // per pixel. The straight edge of a flat triangle against a flat
-// background 5/255 apart is interpolated at 4 px, 10/255 apart at 2 px
+// background 12/255 apart is interpolated at 4 px, 28/255 apart at 2 px
 // (more samples), never traced, and within that contrast of the full
-// trace; 14/255 apart it is traced along its length; the copy-only mode
+// trace; 36/255 apart it is traced along its length; the copy-only mode
 // traces it at any contrast.
 TEST(AdaptiveFrame, SmallBlocksOfCloseColoursAreInterpolated) {
   constexpr int kN = 96;
   uint64_t samples[3] = {0, 0, 0};
   for (int k = 0; k < 3; ++k) {
-    int contrast = (const int[]){5, 10, 14}[k];
+    int contrast = (const int[]){12, 28, 36}[k];
     for (Mode mode : {Mode::Adaptive, Mode::Copy}) {
       Scene s;
       base_scene(s);
@@ -287,7 +288,7 @@ TEST(AdaptiveFrame, SmallBlocksOfCloseColoursAreInterpolated) {
       for (uint8_t kind : kinds)
         traced += (kind & kKindMask) == kTraced;
       FrameError e = compare_images(full, img);
-      if (contrast <= 12 && mode == Mode::Adaptive) {
+      if (contrast <= 32 && mode == Mode::Adaptive) {
         EXPECT_EQ(traced, 0u) << "contrast " << contrast;
         EXPECT_LE(e.maxError, contrast);
         samples[k] = stats.primary;
@@ -395,54 +396,114 @@ TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   }
 }
 
-// A glass sphere filling the view over a flat background: every corner's
-// record is the same (glass, its far side, the background), so without the
-// glass rule every 8-pixel block would be interpolated from its corners.
-// Blocks that see glass are interpolated only at 4 pixels: every 8-pixel
-// block is split, so its centre (a fresh sample, never estimated) is traced.
-// With an opaque sphere the 8-pixel blocks are interpolated: no centre is.
-TEST(AdaptiveFrame, GlassIsInterpolatedInBlocksOfFourPixels) {
+// A glass sphere filling the view over a flat background, lit from the
+// camera: every corner's record is the same (glass, its far side, the
+// background; lit by a light just in front of it), and its diffuse term
+// fades from the centre outwards,
+// so without the glass rule every 8-pixel block would be interpolated from
+// its corners. Blocks that see glass are interpolated only where their
+// corners' colours span at most 16/255 per channel (kGlassContrast), else
+// split: the centre of an 8-pixel block (a fresh sample, never estimated)
+// is traced exactly where its corners span more (none of its 2-pixel blocks
+// spans more than 24/255, the limit at that size, so none is traced per
+// pixel). With an opaque sphere every 8-pixel block is interpolated: no
+// centre is traced.
+TEST(AdaptiveFrame, GlassIsInterpolatedOnlyWhereItsCornersAreClose) {
   Scene s;
-  base_scene(s);
-  Material glass = matte(v3(0.9f));
-  glass.diffuse = 0;
-  glass.transmit = 0.9f;
-  glass.ior = 1.5f;
-  scene_add(s, make_sphere(v3(0, 0, 30), 29), glass);
-  constexpr int kW = 65, kH = 49; // corners on every 8th pixel up to the last
+  auto build = [&s](float lightZ) {
+    base_scene(s);
+    Material glass = matte(v3(0.9f));
+    glass.diffuse = 1.0f;
+    glass.transmit = 0.5f;
+    glass.ior = 1.5f;
+    scene_add(s, make_sphere(v3(0, 0, 30), 29), glass);
+    scene_add_light(s, v3(0, 0, lightZ), v3(1));
+  };
+  build(-0.5f);
+  constexpr int kW = 65, kH = 49, kB = 8, kGlassContrast = 16;
   for (bool transparent : {true, false}) {
-    s.objects[0].mat.transmit = transparent ? 0.9f : 0.0f;
+    s.objects[0].mat.transmit = transparent ? 0.5f : 0.0f;
     Image img(kW, kH);
     std::vector<uint8_t> kinds(kW * kH, kUnset);
     RenderOptions opt;
-    opt.block = 8;
+    opt.block = kB;
     opt.threads = 2;
     opt.kinds = kinds.data();
     render_frame(s, img, opt, nullptr);
-    int centres = 0, smooth = 0;
-    for (int y = 4; y < kH; y += 8)
-      for (int x = 4; x < kW; x += 8)
-        centres += kinds[size_t(y * kW + x)] >> kSampleCountShift;
+    int centres = 0, wide = 0, traced = 0;
+    for (int y = 0; y + kB < kH; y += kB)
+      for (int x = 0; x + kB < kW; x += kB) {
+        int span = 0; // the corners are traced: the picture holds their colours
+        for (int sh = 0; sh < 24; sh += 8) {
+          int lo = 255, hi = 0;
+          for (uint32_t c :
+               {img.at(x, y), img.at(x + kB, y), img.at(x, y + kB), img.at(x + kB, y + kB)}) {
+            lo = std::min(lo, int(c >> sh & 255));
+            hi = std::max(hi, int(c >> sh & 255));
+          }
+          span = std::max(span, hi - lo);
+        }
+        int centre = kinds[size_t((y + kB / 2) * kW + x + kB / 2)] >> kSampleCountShift;
+        centres += centre;
+        wide += span > kGlassContrast;
+        if (transparent)
+          EXPECT_EQ(centre, span > kGlassContrast ? 1 : 0) << "block at " << x << "," << y;
+      }
     for (uint8_t k : kinds)
-      smooth += (k & kKindMask) != kTraced;
-    EXPECT_EQ(centres, transparent ? (kW / 8) * (kH / 8) : 0) << "transparent " << transparent;
-    EXPECT_GT(smooth, kW * kH * 3 / 4) << "transparent " << transparent;
+      traced += (k & kKindMask) == kTraced;
+    EXPECT_EQ(traced, 0) << "transparent " << transparent; // the records agree everywhere
+    EXPECT_EQ(centres, transparent ? wide : 0) << "transparent " << transparent;
+    if (!transparent) continue;
+    EXPECT_GT(wide, 4); // the rule is exercised both ways
+    EXPECT_LT(wide, (kW / kB) * (kH / kB) - 4);
   }
+  // At the minimum size (base block 2 on a coarse image, the light closer:
+  // steeper spans) a glass block is traced per pixel exactly where its
+  // corners span more than 24/255, else interpolated.
+  constexpr int kCw = 17, kCh = 13, kSmallGlassContrast = 24;
+  build(0.25f); // the light closer: a steeper fade
+  Image img(kCw, kCh);
+  std::vector<uint8_t> kinds(kCw * kCh, kUnset);
+  RenderOptions opt;
+  opt.block = 2;
+  opt.threads = 1;
+  opt.kinds = kinds.data();
+  render_frame(s, img, opt, nullptr);
+  int wide = 0, blocks = 0;
+  for (int y = 0; y + 2 < kCh; y += 2)
+    for (int x = 0; x + 2 < kCw; x += 2) {
+      int span = 0;
+      for (int sh = 0; sh < 24; sh += 8) {
+        int lo = 255, hi = 0;
+        for (uint32_t c :
+             {img.at(x, y), img.at(x + 2, y), img.at(x, y + 2), img.at(x + 2, y + 2)}) {
+          lo = std::min(lo, int(c >> sh & 255));
+          hi = std::max(hi, int(c >> sh & 255));
+        }
+        span = std::max(span, hi - lo);
+      }
+      bool traced = (kinds[size_t((y + 1) * kCw + x + 1)] & kKindMask) == kTraced;
+      EXPECT_EQ(traced, span > kSmallGlassContrast) << "block at " << x << "," << y;
+      wide += span > kSmallGlassContrast;
+      ++blocks;
+    }
+  EXPECT_GT(wide, 2);
+  EXPECT_LT(wide, blocks - 2);
 }
 
 // A side's midpoint is estimated from its ends when their records agree and
-// their colours are within 4/255 per channel: the rounded mean colour.
+// their colours are within 8/255 per channel: the rounded mean colour.
 TEST(AdaptiveEstimate, EqualRecordsAndCloseColours) {
   CornerSample a{}, b{}, mid{};
   a.path.count = b.path.count = 2;
   a.path.node[0] = b.path.node[0] = 3;
   a.path.node[1] = b.path.node[1] = 5 | 4 << 5;
   a.packed = 0xff102030u;
-  b.packed = 0xff14242du; // red +4, green +4, blue -3
+  b.packed = 0xff18282au; // red +8, green +8, blue -6
   ASSERT_TRUE(adaptive_estimate(a, b, mid));
-  EXPECT_EQ(mid.packed, 0xff12222fu); // (16+20+1)/2 = 18, (32+36+1)/2 = 34, (48+45+1)/2 = 47
+  EXPECT_EQ(mid.packed, 0xff14242du); // (16+24+1)/2 = 20, (32+40+1)/2 = 36, (48+42+1)/2 = 45
   EXPECT_TRUE(same_path(mid.path, a.path));
-  b.packed = 0xff15242du; // red +5: too far apart
+  b.packed = 0xff19282au; // red +9: too far apart
   EXPECT_FALSE(adaptive_estimate(a, b, mid));
   b.packed = 0xff000000u | (a.packed & 0xffffffu);
   b.path.node[1] = 5; // no highlight at b: another record

@@ -13,8 +13,8 @@
 //     from the band's scratch, shared by its four children.
 // A corner or midpoint that is an end of several arrays is copied into each
 // once it is traced. Each slot has a state: unknown, pending (in the current
-// batch), known (traced) or estimated (adaptive_estimate; traced after all
-// if a block traced per pixel needs it).
+// batch), known (traced) or estimated (adaptive_estimate; kept, also where
+// a block traced per pixel needs that pixel).
 #include "adaptive.h"
 
 #include "packet/packet.h"
@@ -32,18 +32,23 @@ enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 // A side's midpoint is estimated instead of traced when the records at its
 // two ends are equal and no colour channel differs between them by more than
 // kEstimateContrast / 255: the midpoint takes their record and the rounded
-// mean of their colours. Measured in docs/speed-vs-error.md: at 16 (issue 9's
-// first round) -11 % samples; at 4, with the small blocks' rule below, a
-// little more samples and less flicker than 16 (without a contrast limit
-// the flicker figure got worse).
-constexpr int kEstimateContrast = 4;
+// mean of their colours, also where a block traced per pixel needs it.
+// Measured in docs/speed-vs-error.md: at 16 (issue 9's first round) -11 %
+// samples; at 4 (second round) less flicker for a few more samples; at 8
+// and kept where a block is traced per pixel (third round), paid for in
+// flicker by the glass rule below.
+constexpr int kEstimateContrast = 8;
 
 // A block whose corners see a transparent object (at any recorded depth) is
-// copied or interpolated only when it is at most kGlassBlock pixels wide and
-// high, else split. Glass shows a minified image of what lies behind and
-// around it, whose edges partly go unrecorded (deeper than kRecordDepth, or
-// reflections weaker than kRecordWeight); measured in docs/speed-vs-error.md.
-constexpr int kGlassBlock = 4;
+// copied or interpolated only when no colour channel of its corners spans
+// more than kGlassContrast[0] / 255 (kGlassContrast[1] / 255 at the minimum
+// size), else split (traced per pixel at the minimum size). Glass shows a
+// minified image of what lies behind and around it, whose edges partly go
+// unrecorded (deeper than kRecordDepth, or reflections weaker than
+// kRecordWeight): most of the flicker was in glass blocks interpolated from
+// corners whose colours differ. Measured in docs/speed-vs-error.md (before
+// the third round: split down to 4 px whatever the colours).
+constexpr int kGlassContrast[2] = {16, 24};
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
@@ -53,9 +58,10 @@ constexpr int kGlassBlock = 4;
 // passes between corners at most 2 minBlock apart and differs from all four
 // by more than that. Most of the blocks traced per pixel were of this kind:
 // edges of faint shadows and highlights, two surfaces of similar colour
-// meeting. Measured in docs/speed-vs-error.md (with kEstimateContrast 4:
-// -19 % samples, min PSNR +0.3 dB, flicker as before).
-constexpr int kSmallContrast[2] = {12, 6};
+// meeting. Measured in docs/speed-vs-error.md (second round, 12 and 6:
+// -19 % samples, flicker as before; third round, 32 and 16, spending the
+// flicker that the glass rule's change saves).
+constexpr int kSmallContrast[2] = {32, 16};
 
 struct Edge {
   Sample* s;
@@ -142,9 +148,9 @@ void flush(Context& c) {
 }
 
 // Asks for the sample at (x, y) into slot e[0]: traced unless already
-// traced or asked for (an estimated sample is traced).
+// traced, asked for or estimated.
 void request(Context& c, int x, int y, Edge e) {
-  if (*e.st != kUnknown && *e.st != kEstimated) return;
+  if (*e.st != kUnknown) return;
   *e.st = kPending;
   Batch& b = c.batch;
   b.x[b.n] = x;
@@ -342,7 +348,8 @@ bool is_small(const AdaptiveFrame& f, int w, int h) {
 // A small block, traced per pixel. Before the batch (`written` false):
 // asks for every pixel, those on its sides into their slots (other blocks may
 // read them), the rest straight into the picture. After it: writes the
-// pixels on its sides from their slots.
+// pixels on its sides from their slots; an estimated one counts as
+// interpolated in `kinds`.
 RT64K_COLD void trace_block(Context& c, const Node& n, bool written) {
   const AdaptiveFrame& f = *c.f;
   if (written) mark(f, n, kTraced);
@@ -353,6 +360,10 @@ RT64K_COLD void trace_block(Context& c, const Node& n, bool written) {
         if (!written) request_pixel(c, x, y);
       } else if (written) {
         f.fb[y * f.stride + x] = e.s->packed;
+        if (f.kinds && *e.st == kEstimated) {
+          u8& k = f.kinds[y * f.width + x];
+          k = (u8)((k & ~kKindMask) | kInterpolated);
+        }
       } else {
         request(c, x, y, e);
       }
@@ -383,7 +394,9 @@ void process_group(Context& c, Node* nodes, int count) {
       if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
     }
     // Not split: the four records are equal, so c00's stands for all.
-    else if (n.kind != kSplit && (w > kGlassBlock || h > kGlassBlock) && sees_glass(f, c00))
+    else if (n.kind != kSplit &&
+             !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
+             sees_glass(f, c00))
       n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);

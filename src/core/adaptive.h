@@ -8,13 +8,14 @@
 //   * else, larger than `minBlock`            -> split into four and repeat;
 //   * else                                    -> trace every pixel.
 // Ours beyond the thesis (issue 9, measured in docs/speed-vs-error.md): a
-// block whose corners see glass is filled or interpolated only up to
-// kGlassBlock (4) pixels, else split; and when a block splits, the midpoint
-// of a side whose ends have equal records and colours within
-// kEstimateContrast is estimated from them instead of traced
-// (adaptive_estimate; a pixel traced per pixel is always traced); and a
+// block whose corners see glass is filled or interpolated only where its
+// corner colours span at most kGlassContrast per channel (16/255; 24/255 at
+// minBlock), else split (traced per pixel at minBlock); and when a block splits,
+// the midpoint of a side whose ends have equal records and colours within
+// kEstimateContrast (8/255) is estimated from them instead of traced
+// (adaptive_estimate; kept also where a block is traced per pixel); and a
 // block of up to 2 `minBlock` pixels whose corner colours span at most
-// kSmallContrast per channel (12/255 at minBlock, 6/255 up to twice it) is
+// kSmallContrast per channel (32/255 at minBlock, 16/255 up to twice it) is
 // interpolated even where the records differ (kModeAdaptive only).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
@@ -89,8 +90,8 @@ BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, cons
 
 // The midpoint of a block's side whose ends are a and b, estimated instead
 // of traced: when the records of a and b are equal and their colours differ
-// by at most kEstimateContrast / 255 per channel (adaptive.cpp), sets mid to
-// their record and rounded mean colour and returns true.
+// by at most kEstimateContrast (8) / 255 per channel (adaptive.cpp), sets mid
+// to their record and rounded mean colour and returns true.
 bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid);
 
 // Number of CornerSample entries the caller's `corners` buffer needs for a

@@ -62,8 +62,9 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 // domain, where |m|^2 may overflow), m is rebuilt from Haines's stable terms:
 // f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
 // root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
-// zero, so the normal is always the sphere's own.
-void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
+// zero, so the normal is always the sphere's own. Returns the outward unit
+// normal (hit_normal() turns it to face the ray).
+Vec3 sphere_outward(const Shape& s, const Ray& ray, const Hit& hit) {
   Vec3 f = ray.org - s.a;
   Vec3 m = f + ray.dir * hit.t;
   float len2 = dot(m, m), r2 = s.r0 * s.r0;
@@ -74,7 +75,7 @@ void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
     m = perp + ray.dir * (hit.t < -b ? -root : root);
     len2 = dot(m, m);
   }
-  face(m * (1.0f / rt_sqrt(len2)), ray, hit);
+  return m * (1.0f / rt_sqrt(len2));
 }
 
 // Plane {p : a.(p - b) = 0}, b its point offset * a. The numerator is the
@@ -276,13 +277,10 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 // (|org - base| + t), as the solve's own. Within the domain |p_perp|^2 <=
 // 2^67 and the normal's square <= 2^107; a hit from beyond it is rescaled
 // first. At the apex itself p_perp = 0 and the surface has no normal: the
-// fallback is the axis (the apex's end).
-void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
+// fallback is the axis (the apex's end). Returns the outward unit normal.
+Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
   Vec3 axis = s.b;
-  if (hit.piece != kPieceSide) {
-    face(hit.piece == kPieceTop ? axis : -axis, ray, hit);
-    return;
-  }
+  if (hit.piece != kPieceSide) return hit.piece == kPieceTop ? axis : -axis;
   Vec3 q = ray.org - s.a + ray.dir * hit.t;
   Vec3 pPerp = q - axis * dot(q, axis);
   float rho2 = dot(pPerp, pPerp);
@@ -290,7 +288,7 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
     pPerp = pPerp * (1.0f / max_abs(pPerp));
     rho2 = dot(pPerp, pPerp);
   }
-  face(normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis), ray, hit);
+  return normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -355,24 +353,28 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return false;
 }
 
+// The outward normal of each kind, then one face() for all (a copy per kind
+// cost ~200 bytes of the exe).
 void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
+  Vec3 outward;
   switch (s.kind) {
   case kSphere:
-    sphere_normal(s, ray, hit);
-    return;
+    outward = sphere_outward(s, ray, hit);
+    break;
   case kPlane:
     plane_normal(s, hit);
     return;
   case kCylinder:
   case kCone:
-    frustum_normal(s, ray, hit);
-    return;
+    outward = frustum_outward(s, ray, hit);
+    break;
   case kTriangle:
-    face(normalize(s.n), ray, hit);
-    return;
-  case kEmpty:
+    outward = normalize(s.n);
+    break;
+  default: // kEmpty
     return;
   }
+  face(outward, ray, hit);
 }
 
 bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {

@@ -302,24 +302,31 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if (tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
       abs_bits(side) > s.sideMargin * max_abs_bits(ao))
     return false; // starts off the plane and moves away from it (kSideRel)
-  // Components indexed by kx, ky, kz from arrays: loads, not branches.
-  const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
-  float ax = abs_bits(d[0]), ay = abs_bits(d[1]), az = abs_bits(d[2]);
+  // Components indexed by kx, ky, kz: loads from the vectors themselves (their
+  // bytes, at 4 i), not branches; each difference is the one s.a - ray.org
+  // etc. would give in that component.
+  static_assert(sizeof(Vec3) == 12, "x, y, z at bytes 0, 4, 8");
+  auto at = [](const Vec3& v, int i) {
+    float f;
+    __builtin_memcpy(&f, (const char*)&v + 4 * i, 4);
+    return f;
+  };
+  float ax = abs_bits(ray.dir.x), ay = abs_bits(ray.dir.y), az = abs_bits(ray.dir.z);
   int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  float dz = d[kz];
+  float dz = at(ray.dir, kz);
   if (dz < 0) {
     int tmp = kx;
     kx = ky;
     ky = tmp;
   }
-  float Sx = d[kx] / dz, Sy = d[ky] / dz, Sz = 1.0f / dz;
-  Vec3 A3 = s.a - ray.org, B3 = s.b - ray.org, C3 = s.c - ray.org;
-  const float A[3] = {A3.x, A3.y, A3.z}, B[3] = {B3.x, B3.y, B3.z}, C[3] = {C3.x, C3.y, C3.z};
-  float Ax = A[kx] - Sx * A[kz], Ay = A[ky] - Sy * A[kz];
-  float Bx = B[kx] - Sx * B[kz], By = B[ky] - Sy * B[kz];
-  float Cx = C[kx] - Sx * C[kz], Cy = C[ky] - Sy * C[kz];
+  float Sx = at(ray.dir, kx) / dz, Sy = at(ray.dir, ky) / dz, Sz = 1.0f / dz;
+  auto rel = [&](const Vec3& v, int i) { return at(v, i) - at(ray.org, i); };
+  float Az = rel(s.a, kz), Bz = rel(s.b, kz), Cz = rel(s.c, kz);
+  float Ax = rel(s.a, kx) - Sx * Az, Ay = rel(s.a, ky) - Sy * Az;
+  float Bx = rel(s.b, kx) - Sx * Bz, By = rel(s.b, ky) - Sy * Bz;
+  float Cx = rel(s.c, kx) - Sx * Cz, Cy = rel(s.c, ky) - Sy * Cz;
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
   if (U == 0 || V == 0 || W == 0) {
     U = (float)((double)Cx * By - (double)Cy * Bx);
@@ -329,7 +336,7 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
   float det = U + V + W;
   if (det == 0) return false; // ray in the triangle's plane: edge-on, no area seen
-  float T = U * Sz * A[kz] + V * Sz * B[kz] + W * Sz * C[kz];
+  float T = U * Sz * Az + V * Sz * Bz + W * Sz * Cz;
   float t = T / det;
   return accept(t, tMin, 0, 0.0f, hit);
 }

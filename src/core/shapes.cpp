@@ -236,8 +236,9 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
-    float roots[2] = {A != 0 ? q / A : kHuge, q != 0 ? C / q : kHuge};
-    for (float tr : roots) {
+    // The two roots q/A and C/q in turn (in registers, no array).
+    float tr = A != 0 ? q / A : kHuge, next = q != 0 ? C / q : kHuge;
+    for (int root = 0; root < 2; ++root, tr = next) {
       float t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
       float y = y0 + tr * dy, rim = f.rim;

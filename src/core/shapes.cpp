@@ -62,8 +62,9 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 // domain, where |m|^2 may overflow), m is rebuilt from Haines's stable terms:
 // f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
 // root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
-// zero, so the normal is always the sphere's own.
-void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
+// zero, so the normal is always the sphere's own. Returns the outward unit
+// normal (hit_normal() turns it to face the ray).
+Vec3 sphere_outward(const Shape& s, const Ray& ray, const Hit& hit) {
   Vec3 f = ray.org - s.a;
   Vec3 m = f + ray.dir * hit.t;
   float len2 = dot(m, m), r2 = s.r0 * s.r0;
@@ -74,7 +75,7 @@ void sphere_normal(const Shape& s, const Ray& ray, Hit& hit) {
     m = perp + ray.dir * (hit.t < -b ? -root : root);
     len2 = dot(m, m);
   }
-  face(m * (1.0f / rt_sqrt(len2)), ray, hit);
+  return m * (1.0f / rt_sqrt(len2));
 }
 
 // Plane {p : a.(p - b) = 0}, b its point offset * a. The numerator is the
@@ -235,8 +236,9 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float disc = B * B - A * C;
   if (disc >= 0) {
     float q = -(B + (B >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
-    float roots[2] = {A != 0 ? q / A : kHuge, q != 0 ? C / q : kHuge};
-    for (float tr : roots) {
+    // The two roots q/A and C/q in turn (in registers, no array).
+    float tr = A != 0 ? q / A : kHuge, next = q != 0 ? C / q : kHuge;
+    for (int root = 0; root < 2; ++root, tr = next) {
       float t = tc + tr;
       if (!(t > tMin && t < hit.t)) continue;
       float y = y0 + tr * dy, rim = f.rim;
@@ -276,13 +278,10 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 // (|org - base| + t), as the solve's own. Within the domain |p_perp|^2 <=
 // 2^67 and the normal's square <= 2^107; a hit from beyond it is rescaled
 // first. At the apex itself p_perp = 0 and the surface has no normal: the
-// fallback is the axis (the apex's end).
-void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
+// fallback is the axis (the apex's end). Returns the outward unit normal.
+Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
   Vec3 axis = s.b;
-  if (hit.piece != kPieceSide) {
-    face(hit.piece == kPieceTop ? axis : -axis, ray, hit);
-    return;
-  }
+  if (hit.piece != kPieceSide) return hit.piece == kPieceTop ? axis : -axis;
   Vec3 q = ray.org - s.a + ray.dir * hit.t;
   Vec3 pPerp = q - axis * dot(q, axis);
   float rho2 = dot(pPerp, pPerp);
@@ -290,7 +289,7 @@ void frustum_normal(const Shape& s, const Ray& ray, Hit& hit) {
     pPerp = pPerp * (1.0f / max_abs(pPerp));
     rho2 = dot(pPerp, pPerp);
   }
-  face(normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis), ray, hit);
+  return normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis);
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -304,24 +303,31 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if (tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
       abs_bits(side) > s.sideMargin * max_abs_bits(ao))
     return false; // starts off the plane and moves away from it (kSideRel)
-  // Components indexed by kx, ky, kz from arrays: loads, not branches.
-  const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
-  float ax = abs_bits(d[0]), ay = abs_bits(d[1]), az = abs_bits(d[2]);
+  // Components indexed by kx, ky, kz: loads from the vectors themselves (their
+  // bytes, at 4 i), not branches; each difference is the one s.a - ray.org
+  // etc. would give in that component.
+  static_assert(sizeof(Vec3) == 12, "x, y, z at bytes 0, 4, 8");
+  auto at = [](const Vec3& v, int i) {
+    float f;
+    __builtin_memcpy(&f, (const char*)&v + 4 * i, 4);
+    return f;
+  };
+  float ax = abs_bits(ray.dir.x), ay = abs_bits(ray.dir.y), az = abs_bits(ray.dir.z);
   int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  float dz = d[kz];
+  float dz = at(ray.dir, kz);
   if (dz < 0) {
     int tmp = kx;
     kx = ky;
     ky = tmp;
   }
-  float Sx = d[kx] / dz, Sy = d[ky] / dz, Sz = 1.0f / dz;
-  Vec3 A3 = s.a - ray.org, B3 = s.b - ray.org, C3 = s.c - ray.org;
-  const float A[3] = {A3.x, A3.y, A3.z}, B[3] = {B3.x, B3.y, B3.z}, C[3] = {C3.x, C3.y, C3.z};
-  float Ax = A[kx] - Sx * A[kz], Ay = A[ky] - Sy * A[kz];
-  float Bx = B[kx] - Sx * B[kz], By = B[ky] - Sy * B[kz];
-  float Cx = C[kx] - Sx * C[kz], Cy = C[ky] - Sy * C[kz];
+  float Sx = at(ray.dir, kx) / dz, Sy = at(ray.dir, ky) / dz, Sz = 1.0f / dz;
+  auto rel = [&](const Vec3& v, int i) { return at(v, i) - at(ray.org, i); };
+  float Az = rel(s.a, kz), Bz = rel(s.b, kz), Cz = rel(s.c, kz);
+  float Ax = rel(s.a, kx) - Sx * Az, Ay = rel(s.a, ky) - Sy * Az;
+  float Bx = rel(s.b, kx) - Sx * Bz, By = rel(s.b, ky) - Sy * Bz;
+  float Cx = rel(s.c, kx) - Sx * Cz, Cy = rel(s.c, ky) - Sy * Cz;
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
   if (U == 0 || V == 0 || W == 0) {
     U = (float)((double)Cx * By - (double)Cy * Bx);
@@ -331,7 +337,7 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
   float det = U + V + W;
   if (det == 0) return false; // ray in the triangle's plane: edge-on, no area seen
-  float T = U * Sz * A[kz] + V * Sz * B[kz] + W * Sz * C[kz];
+  float T = U * Sz * Az + V * Sz * Bz + W * Sz * Cz;
   float t = T / det;
   return accept(t, tMin, 0, 0.0f, hit);
 }
@@ -355,24 +361,28 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return false;
 }
 
+// The outward normal of each kind, then one face() for all (a copy per kind
+// cost ~200 bytes of the exe).
 void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
+  Vec3 outward;
   switch (s.kind) {
   case kSphere:
-    sphere_normal(s, ray, hit);
-    return;
+    outward = sphere_outward(s, ray, hit);
+    break;
   case kPlane:
     plane_normal(s, hit);
     return;
   case kCylinder:
   case kCone:
-    frustum_normal(s, ray, hit);
-    return;
+    outward = frustum_outward(s, ray, hit);
+    break;
   case kTriangle:
-    face(normalize(s.n), ray, hit);
-    return;
-  case kEmpty:
+    outward = normalize(s.n);
+    break;
+  default: // kEmpty
     return;
   }
+  face(outward, ray, hit);
 }
 
 bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {

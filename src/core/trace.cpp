@@ -291,13 +291,24 @@ CameraRays camera_rays(const Scene& scene, int width, int height) {
   return c;
 }
 
+// Per channel v: 0 for v <= 0 and NaN, 255 for v >= 1, else (u32)(v * 255 +
+// 0.5), truncated. In the lanes of one SSE2 register, blue to red and alpha
+// = 1: w = minps(1, v) is 1 for v >= 1 (1 * 255 + 0.5 truncates to 255)
+// and v otherwise, NaN included (minps returns its second operand when
+// either is NaN); each lane does the scalar formula's very operations
+// (mulps, addps, cvttps2dq round as mulss, addss, cvttss2si); two
+// saturating packs give the bytes B, G, R, A of the word: a lane of 0..255
+// as it is, a negative one 0 (v <= 0: v * 255 + 0.5 truncates to 0 or
+// below; -Inf, NaN and huge negatives convert to INT_MIN).
 u32 pack_color(Vec3 c) {
-  auto channel = [](float v) -> u32 {
-    if (!(v > 0.0f)) return 0; // negative and NaN
-    if (v >= 1.0f) return 255;
-    return (u32)(v * 255.0f + 0.5f);
-  };
-  return 0xff000000u | channel(c.x) << 16 | channel(c.y) << 8 | channel(c.z);
+  typedef int i4 __attribute__((vector_size(16)));
+  typedef short s8 __attribute__((vector_size(16)));
+  typedef char c16 __attribute__((vector_size(16)));
+  f4 v = {c.z, c.y, c.x, 1.0f}, one = {1, 1, 1, 1};
+  i4 q = __builtin_ia32_cvttps2dq(__builtin_ia32_minps(one, v) * 255.0f + 0.5f);
+  s8 h = __builtin_ia32_packssdw128(q, q);
+  c16 b = __builtin_ia32_packuswb128(h, h);
+  return (u32)((i4)b)[0];
 }
 
 // Primary rays in packets of four (packet/packet.h: the same pixels as one

@@ -39,7 +39,7 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
       paths[k].count = 0;
       ctx.record = &paths[k];
     }
-    color[k] = trace_primary(ctx, cam, x[k], y[k]);
+    color[k] = trace(ctx, primary_ray(cam, x[k], y[k]), 1); // trace_primary(), inline
   }
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;

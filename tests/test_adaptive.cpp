@@ -446,8 +446,9 @@ TEST(AdaptiveFrame, GlassIsInterpolatedOnlyWhereItsCornersAreClose) {
         int centre = kinds[size_t((y + kB / 2) * kW + x + kB / 2)] >> kSampleCountShift;
         centres += centre;
         wide += span > kGlassContrast;
-        if (transparent)
+        if (transparent) {
           EXPECT_EQ(centre, span > kGlassContrast ? 1 : 0) << "block at " << x << "," << y;
+        }
       }
     for (uint8_t k : kinds)
       traced += (k & kKindMask) == kTraced;

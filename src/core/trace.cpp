@@ -300,15 +300,33 @@ CameraRays camera_rays(const Scene& scene, int width, int height) {
 // saturating packs give the bytes B, G, R, A of the word: a lane of 0..255
 // as it is, a negative one 0 (v <= 0: v * 255 + 0.5 truncates to 0 or
 // below; -Inf, NaN and huge negatives convert to INT_MIN).
-u32 pack_color(Vec3 c) {
-  typedef int i4 __attribute__((vector_size(16)));
-  typedef short s8 __attribute__((vector_size(16)));
-  typedef char c16 __attribute__((vector_size(16)));
+namespace {
+
+typedef int i4 __attribute__((vector_size(16)));
+typedef short s8 __attribute__((vector_size(16)));
+typedef char c16 __attribute__((vector_size(16)));
+
+// The four lanes of c before the packs: B, G, R, A as 32-bit integers.
+inline i4 quantise(Vec3 c) {
   f4 v = {c.z, c.y, c.x, 1.0f}, one = {1, 1, 1, 1};
-  i4 q = __builtin_ia32_cvttps2dq(__builtin_ia32_minps(one, v) * 255.0f + 0.5f);
+  return __builtin_ia32_cvttps2dq(__builtin_ia32_minps(one, v) * 255.0f + 0.5f);
+}
+
+} // namespace
+
+u32 pack_color(Vec3 c) {
+  i4 q = quantise(c);
   s8 h = __builtin_ia32_packssdw128(q, q);
   c16 b = __builtin_ia32_packuswb128(h, h);
   return (u32)((i4)b)[0];
+}
+
+// The same packs over four colours: the bytes of the four words in order.
+void pack_color4(const Vec3 c[4], u32 out[4]) {
+  s8 lo = __builtin_ia32_packssdw128(quantise(c[0]), quantise(c[1]));
+  s8 hi = __builtin_ia32_packssdw128(quantise(c[2]), quantise(c[3]));
+  c16 b = __builtin_ia32_packuswb128(lo, hi);
+  __builtin_memcpy(out, &b, 16);
 }
 
 // Primary rays in packets of four (packet/packet.h: the same pixels as one

@@ -131,6 +131,8 @@ inline Ray primary_ray(const CameraRays& c, float x, float y) {
 // 0xAARRGGBB (BGRA in memory, as a Win32 DIB wants), channels clamped to
 // [0, 1] and rounded; NaN maps to 0.
 u32 pack_color(Vec3 c);
+// pack_color() of c[0..3] into out[0..3] (the full trace's rows of packets).
+void pack_color4(const Vec3 c[4], u32 out[4]);
 
 // Full trace (every pixel) of rows [rowBegin, rowEnd) into a caller-owned
 // framebuffer of `width` x `height` pixels with `stride` pixels per row.

@@ -332,28 +332,6 @@ void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
               paths, stats);
 }
 
-namespace {
-
-// One channel of pack_color() (trace.cpp) in four lanes: 0 for v <= 0 and
-// NaN, 255 for v >= 1, else (int)(v * 255 + 0.5), truncated as the scalar
-// cast does (the value is in (0.5, 255.5)), so each lane is its result.
-i4 channel4(f4 v) {
-  i4 q = __builtin_ia32_cvttps2dq(v * f4_of(255.0f) + f4_of(0.5f));
-  q = v >= f4_of(1.0f) ? i4_of(255) : q;
-  return v > f4_of(0.0f) ? q : i4_of(0);
-}
-
-// pack_color() of four colours at once: the same words.
-void pack_color4(const Vec3 color[4], u32 out[4]) {
-  f4 r = {color[0].x, color[1].x, color[2].x, color[3].x};
-  f4 g = {color[0].y, color[1].y, color[2].y, color[3].y};
-  f4 b = {color[0].z, color[1].z, color[2].z, color[3].z};
-  i4 word = i4_of((i32)0xff000000u) | channel4(r) << 16 | channel4(g) << 8 | channel4(b);
-  __builtin_memcpy(out, &word, 16);
-}
-
-} // namespace
-
 void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width, int stride,
                   int rowBegin, int rowEnd, RayStats* stats) {
   Vec3 color[4];

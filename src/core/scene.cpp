@@ -16,8 +16,9 @@ void light_terms(Scene& s, int l, int i) {
 void add_object(Scene& s, const Shape& shape, const Material& m) {
   int i = s.numObjects++;
   Object& o = s.objects[i];
-  o = Object{shape, m, {0, 0, 0}, kHuge};
-  shape_bound(shape, o.boundCentre, o.boundRadius);
+  o.shape = shape; // member by member: no temporary Object to copy
+  o.mat = m;
+  shape_bound(shape, o.boundCentre, o.boundRadius); // sets both on every path
   if (shape.kind == kEmpty) return; // boundR2 stays -1 (scene_clear): no ray passes
   if (o.boundRadius >= kHuge) {
     s.unboundedMask |= 1u << i;

@@ -210,7 +210,9 @@ void write_stdout(const char* text, DWORD length) {
 }
 
 // The /bench line goes to stdout and to kBenchFileName next to the exe (in
-// the current directory if the exe's path is too long).
+// the current directory if the exe's path is too long). The file is not
+// closed: the process exits right after (finish_bench), which closes it;
+// WriteFile has put the line into it by then (one import fewer).
 void write_bench_report(const char* text, DWORD length) {
   write_stdout(text, length);
   DWORD written;
@@ -224,10 +226,7 @@ void write_bench_report(const char* text, DWORD length) {
     path[nameAt + i] = kBenchFileName[i];
   HANDLE file =
       CreateFileA(path, GENERIC_WRITE, 0, nullptr, CREATE_ALWAYS, FILE_ATTRIBUTE_NORMAL, nullptr);
-  if (file != INVALID_HANDLE_VALUE) {
-    WriteFile(file, text, length, &written, nullptr);
-    CloseHandle(file);
-  }
+  if (file != INVALID_HANDLE_VALUE) WriteFile(file, text, length, &written, nullptr);
 }
 
 // CPU time (user + kernel) of all the process's threads so far, seconds. On

@@ -74,13 +74,12 @@ bool parse_seconds(const char* begin, const char* end, double* out) {
   }
   if (digits == 0) return false;
   // A fraction with more than 22 digits (leading zeros included) is scaled in
-  // two steps; the value is then below 1e-5 or has dropped digits anyway.
+  // steps of 10^22; the value is then below 1e-5 or has dropped digits anyway.
   double value = (double)mantissa;
-  while (fractionDigits > kMaxExactPow10) {
-    value /= pow10(kMaxExactPow10);
-    fractionDigits -= kMaxExactPow10;
+  for (int k; fractionDigits > 0; fractionDigits -= k) {
+    k = fractionDigits < kMaxExactPow10 ? fractionDigits : kMaxExactPow10;
+    value /= pow10(k);
   }
-  value /= pow10(fractionDigits);
   if (value > kMaxStartSeconds) return false;
   *out = negative ? -value : value;
   return true;

@@ -22,16 +22,12 @@ struct Player {
 
 } // namespace
 
+// 16-bit stereo PCM at kAudioRate: tag, channels, rate, bytes per second,
+// bytes per frame, bits per sample, no extra bytes.
+const WAVEFORMATEX kFormat = {WAVE_FORMAT_PCM, 2, kAudioRate, kAudioRate * 4, 4, 16, 0};
+
 bool audio_start(const short* samples) {
-  WAVEFORMATEX format;
-  format.wFormatTag = WAVE_FORMAT_PCM;
-  format.nChannels = 2;
-  format.nSamplesPerSec = kAudioRate;
-  format.nAvgBytesPerSec = kAudioRate * 4;
-  format.nBlockAlign = 4;
-  format.wBitsPerSample = 16;
-  format.cbSize = 0;
-  if (waveOutOpen(&g.device, WAVE_MAPPER, &format, 0, 0, CALLBACK_NULL) == MMSYSERR_NOERROR) {
+  if (waveOutOpen(&g.device, WAVE_MAPPER, &kFormat, 0, 0, CALLBACK_NULL) == MMSYSERR_NOERROR) {
     g.header.lpData = (LPSTR)samples;
     g.header.dwBufferLength = (DWORD)kAudioFrames * 4;
     g.header.dwFlags = 0; // waveOutPrepareHeader wants 0; the loop flags come after

@@ -169,7 +169,7 @@ void pump_messages() {
   }
 }
 
-// Waits for `object` (an event or a thread) while serving the window, so Esc
+// Waits for `object` (a semaphore or a thread) while serving the window, so Esc
 // acts within one message round trip however long the wait.
 void wait_pumping(HANDLE object) {
   for (;;) {

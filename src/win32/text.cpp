@@ -75,7 +75,7 @@ bool parse_seconds(const char* begin, const char* end, double* out) {
   if (digits == 0) return false;
   // A fraction with more than 22 digits (leading zeros included) is scaled in
   // steps of 10^22; the value is then below 1e-5 or has dropped digits anyway.
-  double value = (double)mantissa;
+  double value = (double)(long long)mantissa; // < 10^17 < 2^63: signed, one instruction
   for (int k; fractionDigits > 0; fractionDigits -= k) {
     k = fractionDigits < kMaxExactPow10 ? fractionDigits : kMaxExactPow10;
     value /= pow10(k);
@@ -177,7 +177,10 @@ void append_fixed(TextBuffer& b, double v, int decimals) {
   }
   if (decimals < 0) decimals = 0;
   if (decimals > kMaxDecimals) decimals = kMaxDecimals;
-  u64 scale = 1;
+  // Signed 64-bit integers: |v| < 1e15 and scale <= 1e9 fit, and their
+  // conversions to and from double are single instructions (unsigned ones
+  // are not), with the same values.
+  long long scale = 1;
   for (int i = 0; i < decimals; ++i)
     scale *= 10;
   if (v < 0) {
@@ -185,8 +188,8 @@ void append_fixed(TextBuffer& b, double v, int decimals) {
     // Only print the sign when something non-zero follows it.
     if (v * (double)scale >= 0.5) append_char(b, '-');
   }
-  u64 whole = (u64)v;
-  u64 frac = (u64)((v - (double)whole) * (double)scale + 0.5);
+  long long whole = (long long)v;
+  long long frac = (long long)((v - (double)whole) * (double)scale + 0.5);
   if (frac >= scale) { // rounding carried into the integer part
     frac -= scale;
     ++whole;
@@ -194,7 +197,7 @@ void append_fixed(TextBuffer& b, double v, int decimals) {
   append_uint(b, whole);
   if (decimals == 0) return;
   append_char(b, '.');
-  for (u64 s = scale / 10; s > 0; s /= 10)
+  for (long long s = scale / 10; s > 0; s /= 10)
     append_char(b, (char)('0' + frac / s % 10));
 }
 

@@ -16,9 +16,11 @@ void light_terms(Scene& s, int l, int i) {
 void add_object(Scene& s, const Shape& shape, const Material& m) {
   int i = s.numObjects++;
   Object& o = s.objects[i];
-  o.shape = shape; // member by member: no temporary Object to copy
+  // Member by member (no temporary Object to copy); shape_bound sets the
+  // bound's centre and radius on every path.
+  o.shape = shape;
   o.mat = m;
-  shape_bound(shape, o.boundCentre, o.boundRadius); // sets both on every path
+  shape_bound(shape, o.boundCentre, o.boundRadius);
   if (shape.kind == kEmpty) return; // boundR2 stays -1 (scene_clear): no ray passes
   if (o.boundRadius >= kHuge) {
     s.unboundedMask |= 1u << i;

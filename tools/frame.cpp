@@ -39,8 +39,8 @@ namespace {
 // beside a frame of the full trace.
 constexpr std::chrono::microseconds kFinishSpin{2000};
 
-// A persistent pool: workers sleep between jobs, so a frame costs one wake-up,
-// not thread creation. The calling thread works too.
+// A persistent pool: workers sleep between jobs, so a frame costs one wake-up
+// (the workers'), not thread creation. The calling thread works too.
 class Pool {
 public:
   explicit Pool(int workers) {

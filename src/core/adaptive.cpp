@@ -661,10 +661,11 @@ int adaptive_items(const AdaptiveFrame& f) { return f.gridH - 1; }
 // The done flags are stored with release order after the band's last write
 // and loaded with acquire order before an odd band starts: what the even
 // bands wrote on the shared lines is visible to the odd band that reads it.
-// Bands are handed out from the bottom of the picture up: the costly bands
-// lie low in both scenes (the floor and what it reflects), and started
-// first they do not end the frame on one thread (docs/speed-vs-error.md,
-// "Round four: thread scaling").
+// Bands are handed out from the bottom of the picture up: scene 1's costly
+// bands lie low (the floor and what it reflects), and started first they do
+// not end its frames on one thread; scene 2's (the glass) lie in the middle,
+// where either order does as well (docs/speed-vs-error.md, "Round four:
+// thread scaling": simulated with measured band costs).
 int adaptive_take(const AdaptiveFrame& f) {
   Queue* q = queue(f);
   int bands = f.gridH - 1;

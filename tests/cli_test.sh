@@ -204,6 +204,21 @@ else
 fi
 expect_usage_error "repeated --out (sheet)" sheet --out "$TMP/s1.png" --out "$TMP/s2.png"
 expect_usage_error "repeated --csv (bench)" bench --csv "$TMP/b1.csv" --csv "$TMP/b2.csv"
+expect_usage_error "bench --repeat 0" bench --repeat 0 --csv "$TMP/b.csv"
+expect_usage_error "bench --repeat 33" bench --repeat 33 --csv "$TMP/b.csv"
+expect_usage_error "bench --repeat x" bench --repeat x --csv "$TMP/b.csv"
+# --repeat times each frame more often and changes nothing but the ms
+# columns (2 and 3 of the CSV): same error, rays and flicker as one pass.
+for n in 1 3; do
+  "$RT64K" bench --step 32 --size 40x30 --modes full,adaptive8 --threads 2 --repeat $n \
+    --csv "$TMP/r$n.csv" >/dev/null 2>"$TMP/err" || fail "bench --repeat $n: $(tail -1 "$TMP/err")"
+  cut -d, -f1,2,5- "$TMP/r$n.csv" >"$TMP/r$n.cut"
+done
+if [ "$(wc -l <"$TMP/r1.cut")" -eq 5 ] && cmp -s "$TMP/r1.cut" "$TMP/r3.cut"; then
+  pass
+else
+  fail "bench --repeat 3 changed more than the ms columns"
+fi
 expect_usage_error "audio without a value" audio --out
 expect_usage_error "audio, unknown option" audio --out "$TMP/a.wav" --rate 8000
 

@@ -304,7 +304,8 @@ TEST(AdaptiveFrame, SmallBlocksOfCloseColoursAreInterpolated) {
 // The bands' queue (adaptive_take): every band is handed out once; an odd
 // band only after both even bands next to it have run; "wait" only when
 // every even band is out and the next odd band's neighbours still run;
-// "done" only when every band is out. Driven on one thread in a seeded
+// "done" only when every band is out; the first is the bottom's even band
+// (bands go from the bottom up). Driven on one thread in a seeded
 // random order of takes and finishes (bands finish out of order), the
 // picture is the one-thread render's.
 TEST(AdaptiveFrame, BandsQueueHandsOutEachBandOnceAfterItsNeighbours) {
@@ -353,6 +354,9 @@ TEST(AdaptiveFrame, BandsQueueHandsOutEachBandOnceAfterItsNeighbours) {
           } else {
             ASSERT_GE(b, 0);
             ASSERT_LT(b, bands);
+            if (running.empty() && finished == 0) { // the first: the last even band
+              ASSERT_EQ(b, (bands - 1) & ~1);
+            }
             ASSERT_EQ(state[size_t(b)], 0) << "band " << b << " handed out twice";
             if (b % 2) {
               ASSERT_EQ(state[size_t(b - 1)], 2) << "band " << b;

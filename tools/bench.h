@@ -16,6 +16,7 @@ struct BenchOptions {
   int width = 800, height = 600;
   int threads = 1;
   bool scaling = true;   // also time each mode on 1 thread
+  int repeat = 1;        // timed renders per frame and thread count; the fastest counts
   bool progress = true;  // progress lines on stderr
   std::vector<BenchMode> modes;
   std::string csvPath = "bench.csv";

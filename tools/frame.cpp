@@ -3,11 +3,14 @@
 #include "frame.h"
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include <immintrin.h>
 
 uint32_t id_color(int index) {
   if (index < 0) return 0xff000000u;
@@ -31,8 +34,13 @@ int default_threads() {
 
 namespace {
 
-// A persistent pool: workers sleep between jobs, so a frame costs one wake-up,
-// not thread creation. The calling thread works too.
+// How long the calling thread spins for the workers' last items before it
+// sleeps: longer than an adaptive8 band at 800x600 takes (0.1-1 ms), short
+// beside a frame of the full trace.
+constexpr std::chrono::microseconds kFinishSpin{2000};
+
+// A persistent pool: workers sleep between jobs, so a frame costs one wake-up
+// (the workers'), not thread creation. The calling thread works too.
 class Pool {
 public:
   explicit Pool(int workers) {
@@ -56,14 +64,21 @@ public:
       fn_ = &fn;
       count_ = count;
       next_ = 0;
-      busy_ = int(threads_.size());
+      busy_.store(int(threads_.size()), std::memory_order_relaxed);
       sum_ = RayStats{0, 0, 0};
       ++generation_;
     }
     wake_.notify_all();
     work();
+    // The caller has nothing else to do until the workers finish their last
+    // items: it watches busy_ for up to kFinishSpin before it sleeps, so the
+    // frame does not end with a wake-up (docs/speed-vs-error.md, "Round
+    // four: thread scaling").
+    auto spinEnd = std::chrono::steady_clock::now() + kFinishSpin;
+    while (busy_.load(std::memory_order_acquire) != 0 && std::chrono::steady_clock::now() < spinEnd)
+      _mm_pause();
     std::unique_lock<std::mutex> g(mutex_);
-    done_.wait(g, [this] { return busy_ == 0; });
+    done_.wait(g, [this] { return busy_.load(std::memory_order_acquire) == 0; });
     if (total) {
       total->primary += sum_.primary;
       total->secondary += sum_.secondary;
@@ -91,8 +106,12 @@ private:
         seen = generation_;
       }
       work();
-      std::lock_guard<std::mutex> g(mutex_);
-      if (--busy_ == 0) done_.notify_one();
+      // Counted down outside the lock, which the caller then takes to see
+      // the count (done_'s predicate) or to be notified: no lost wake-up.
+      if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+        std::lock_guard<std::mutex> g(mutex_);
+        done_.notify_one();
+      }
     }
   }
 
@@ -100,8 +119,8 @@ private:
   std::mutex mutex_;
   std::condition_variable wake_, done_;
   const std::function<void(int, RayStats&)>* fn_ = nullptr;
-  int count_ = 0, busy_ = 0;
-  std::atomic<int> next_{0};
+  int count_ = 0;
+  std::atomic<int> next_{0}, busy_{0};
   unsigned long generation_ = 0;
   bool quit_ = false;
   RayStats sum_{0, 0, 0};

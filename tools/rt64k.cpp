@@ -29,11 +29,12 @@ const char* kUsage =
     "  rt64k sheet --out FILE.png [--threads N]\n"
     "      a contact sheet: 16 frames across the 64 s (scene 1 on top, scene 2 below)\n"
     "  rt64k bench [--step S] [--size WxH] [--threads N] [--modes LIST] [--csv FILE]\n"
-    "              [--plot FILE.png] [--scaling on|off]\n"
+    "              [--plot FILE.png] [--scaling on|off] [--repeat N]\n"
     "      renders the timeline every S seconds (default 0.25: 256 frames) in each mode\n"
     "      (default full,copy8,adaptive4,adaptive8,adaptive16) and prints a Markdown table\n"
     "      of ms/frame, rays/pixel and error against the full trace; writes CSV (default\n"
-    "      bench.csv) and, with --plot, a PNG of ms/frame against PSNR (drawn by gnuplot)\n"
+    "      bench.csv) and, with --plot, a PNG of ms/frame against PSNR (drawn by gnuplot);\n"
+    "      --repeat N (1..32, default 1) times each frame N times, the fastest counting\n"
     "  rt64k audio --out FILE.wav\n"
     "      the intro's 64-s music loop, sample for sample what intro.exe plays\n"
     "  rt64k --help\n"
@@ -298,7 +299,8 @@ int cmd_sheet(int argc, char** argv) {
 
 int cmd_bench(int argc, char** argv) {
   Options o(argc, argv, 2,
-            {"--step", "--size", "--threads", "--modes", "--csv", "--plot", "--scaling"});
+            {"--step", "--size", "--threads", "--modes", "--csv", "--plot", "--scaling",
+             "--repeat"});
   BenchOptions b;
   if (o.has("--step")) {
     b.step = parse_time(o.get("--step"));
@@ -325,6 +327,7 @@ int cmd_bench(int argc, char** argv) {
   std::string scaling = o.get("--scaling", "on");
   if (scaling != "on" && scaling != "off") fail("--scaling: '" + scaling + "' is not on or off");
   b.scaling = scaling == "on";
+  if (o.has("--repeat")) b.repeat = int(parse_int(o.get("--repeat"), "--repeat", 1, 32));
   return run_bench(b);
 }
 

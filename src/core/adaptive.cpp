@@ -649,9 +649,10 @@ void adaptive_begin(AdaptiveFrame& f) {
   f.gridW = grid_count(f.width, f.baseBlock);
   f.gridH = grid_count(f.height, f.baseBlock);
   Queue* q = queue(f);
-  q->nextEven = 0;
-  q->nextOdd = 1;
-  for (int b = 0; b < f.gridH - 1; ++b)
+  int bands = f.gridH - 1;
+  q->nextEven = (bands - 1) & ~1;                 // the last even band
+  q->nextOdd = bands % 2 ? bands - 2 : bands - 1; // the last odd band (-1: none)
+  for (int b = 0; b < bands; ++b)
     q->done[b] = 0;
 }
 
@@ -660,25 +661,30 @@ int adaptive_items(const AdaptiveFrame& f) { return f.gridH - 1; }
 // The done flags are stored with release order after the band's last write
 // and loaded with acquire order before an odd band starts: what the even
 // bands wrote on the shared lines is visible to the odd band that reads it.
+// Bands are handed out from the bottom of the picture up: scene 1's costly
+// bands lie low (the floor and what it reflects), and started first they do
+// not end its frames on one thread; scene 2's (the glass) lie in the middle,
+// where either order does as well (docs/speed-vs-error.md, "Round four:
+// thread scaling": simulated with measured band costs).
 int adaptive_take(const AdaptiveFrame& f) {
   Queue* q = queue(f);
   int bands = f.gridH - 1;
   for (;;) {
     i32 odd = __atomic_load_n(&q->nextOdd, __ATOMIC_RELAXED);
-    if (odd < bands && __atomic_load_n(&q->done[odd - 1], __ATOMIC_ACQUIRE) &&
+    if (odd > 0 && __atomic_load_n(&q->done[odd - 1], __ATOMIC_ACQUIRE) &&
         (odd + 1 == bands || __atomic_load_n(&q->done[odd + 1], __ATOMIC_ACQUIRE))) {
-      if (__atomic_compare_exchange_n(&q->nextOdd, &odd, odd + 2, false, __ATOMIC_RELAXED,
+      if (__atomic_compare_exchange_n(&q->nextOdd, &odd, odd - 2, false, __ATOMIC_RELAXED,
                                       __ATOMIC_RELAXED))
         return odd;
       continue; // another thread took it: look again
     }
-    // (Loaded first, so that the counter passes `bands` by at most one step
-    // per thread however long threads wait.)
-    if (__atomic_load_n(&q->nextEven, __ATOMIC_RELAXED) < bands) {
-      i32 even = __atomic_fetch_add(&q->nextEven, 2, __ATOMIC_RELAXED);
-      if (even < bands) return even;
+    // (Loaded first, so that the counter passes 0 by at most one step per
+    // thread however long threads wait.)
+    if (__atomic_load_n(&q->nextEven, __ATOMIC_RELAXED) >= 0) {
+      i32 even = __atomic_fetch_add(&q->nextEven, -2, __ATOMIC_RELAXED);
+      if (even >= 0) return even;
     }
-    return odd < bands ? kAdaptiveWait : kAdaptiveDone;
+    return odd > 0 ? kAdaptiveWait : kAdaptiveDone;
   }
 }
 

@@ -36,11 +36,11 @@
 // reads them and may add samples of its own there, so it is handed out
 // only once both even bands next to it have finished (per-band done flags),
 // and two bands that run at once never touch the same sample. Even bands
-// are handed out in order; an odd band whose neighbours are done comes
-// first (odd bands too in order). No deadlock: adaptive_take() answers
-// "wait" only when every even band has been taken and the next odd band's
-// neighbours are still running, and even bands wait for nothing, so they
-// finish and the odd band becomes ready.
+// are handed out from the last (the bottom of the picture) up; an odd band
+// whose neighbours are done comes first (odd bands too from the last up).
+// No deadlock: adaptive_take() answers "wait" only when every even band has
+// been taken and the next odd band's neighbours are still running, and even
+// bands wait for nothing, so they finish and the odd band becomes ready.
 #pragma once
 #include "trace.h"
 

@@ -23,6 +23,27 @@ namespace {
 
 typedef CornerSample Sample;
 
+// SSE2 through GCC's vector extensions (as trace.cpp): no intrinsics
+// header, which would pull in the C library's.
+typedef i32 v4i __attribute__((vector_size(16)));
+typedef short v8s __attribute__((vector_size(16)));
+typedef char v16c __attribute__((vector_size(16)));
+typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
+typedef float v4f __attribute__((vector_size(16)));
+
+// same_path() (trace.cpp) without its loop: nodes 0-3 and 3-6 as two vectors, those past
+// `count` masked out.
+static_assert(kMaxPathNodes == 7, "same_record compares nodes 0-3 and 3-6");
+inline bool same_record(const PathRecord& a, const PathRecord& b) {
+  if (a.count != b.count) return false;
+  v4i n = {a.count, a.count, a.count, a.count}, first = {0, 1, 2, 3}, last = {3, 4, 5, 6};
+  v4i lo = *(const v4i_unaligned*)a.node ^ *(const v4i_unaligned*)b.node;
+  v4i hi = *(const v4i_unaligned*)(a.node + 3) ^ *(const v4i_unaligned*)(b.node + 3);
+  v4i differ = (lo & (first < n)) | (hi & (last < n));
+  v4i zero = {0, 0, 0, 0};
+  return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
+}
+
 // Per block or per band, not per pixel: kept out of line, which saves bytes
 // in intro.exe for a call's few instructions.
 #define RT64K_COLD __attribute__((noinline))
@@ -176,7 +197,7 @@ void request_pixel(Context& c, int x, int y) {
 } // namespace
 
 bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
-  if (!same_path(a.path, b.path)) return false;
+  if (!same_record(a.path, b.path)) return false;
   for (int sh = 0; sh < 24; sh += 8) {
     int d = (int)(a.packed >> sh & 255) - (int)(b.packed >> sh & 255);
     if (d > kEstimateContrast || -d > kEstimateContrast) return false;
@@ -325,19 +346,18 @@ bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
 }
 
 // True when no colour channel of the four samples spans more than
-// limit / 255.
+// limit / 255. SSE2: per byte the largest and smallest of the four colours
+// (two lane swaps each), their difference less `limit`, saturating at 0.
 bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d, int limit) {
-  for (int sh = 0; sh < 24; sh += 8) {
-    int v[4] = {(int)(a.packed >> sh & 255), (int)(b.packed >> sh & 255),
-                (int)(c.packed >> sh & 255), (int)(d.packed >> sh & 255)};
-    int lo = v[0], hi = v[0];
-    for (int k = 1; k < 4; ++k) {
-      lo = v[k] < lo ? v[k] : lo;
-      hi = v[k] > hi ? v[k] : hi;
-    }
-    if (hi - lo > limit) return false;
-  }
-  return true;
+  v4i v = {(i32)a.packed, (i32)b.packed, (i32)c.packed, (i32)d.packed};
+  v16c hi = __builtin_ia32_pmaxub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
+  v16c lo = __builtin_ia32_pminub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
+  hi = __builtin_ia32_pmaxub128(hi, (v16c)__builtin_ia32_pshufd((v4i)hi, 0xb1));
+  lo = __builtin_ia32_pminub128(lo, (v16c)__builtin_ia32_pshufd((v4i)lo, 0xb1));
+  i32 l = limit * 0x01010101;
+  v4i limits = {l, l, l, l};
+  v16c over = __builtin_ia32_psubusb128(__builtin_ia32_psubusb128(hi, lo), (v16c)limits);
+  return (((v4i)over)[0] & 0xffffff) == 0;
 }
 
 // Blocks this size or smaller are traced per pixel (unless low_contrast).
@@ -543,20 +563,13 @@ void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
 // of one colour are not one surface. Interpolation needs equal records.
 BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
                           const CornerSample& c11, AdaptiveMode mode) {
-  bool samePath = same_path(c00.path, c10.path) && same_path(c00.path, c01.path) &&
-                  same_path(c00.path, c11.path);
+  bool samePath = same_record(c00.path, c10.path) && same_record(c00.path, c01.path) &&
+                  same_record(c00.path, c11.path);
   if (!samePath) return kSplit;
   if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
     return kCopied;
   return mode == kModeAdaptive ? kInterpolated : kSplit;
 }
-
-// SSE2 through GCC's vector extensions (as trace.cpp): no intrinsics
-// header, which would pull in the C library's.
-typedef i32 v4i __attribute__((vector_size(16)));
-typedef short v8s __attribute__((vector_size(16)));
-typedef char v16c __attribute__((vector_size(16)));
-typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
 
 void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
@@ -571,8 +584,6 @@ void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 
 }
 
 namespace {
-
-typedef float v4f __attribute__((vector_size(16)));
 
 // A packed colour's channels as floats, lanes blue, green, red, alpha (255).
 inline v4f channels(u32 c) {

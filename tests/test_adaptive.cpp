@@ -573,9 +573,8 @@ TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
 }
 
 // Interpolated channels are the exact bilinear value rounded to nearest,
-// to within kInterpolationSlack: adaptive_interpolate steps up to 7 rows in
-// 1/128 fixed point from values rounded to 1/128 (8 x 1/256, adaptive.cpp).
-constexpr double kInterpolationSlack = 1.0 / 32;
+// to within kInterpolationSlack (float steps along a row of up to 256 pixels).
+constexpr double kInterpolationSlack = 1.0 / 256;
 
 TEST(AdaptiveFill, InterpolationRoundsTheBilinearValue) {
   // Seeded corners and block shapes, including blocks owning their right

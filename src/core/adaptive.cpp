@@ -592,84 +592,54 @@ inline v4f channels(u32 c) {
   return __builtin_convertvector((v4i)__builtin_ia32_punpcklwd128(lo, (v8s)zero), v4f);
 }
 
-// Two pixels' channel values (lanes blue, green, red, alpha each) as 16-bit
-// lanes in units of 1/128, plus `offset` (64: rounds to nearest after >> 7);
-// cvtps2dq rounds to nearest, packssdw saturates (values stay below 32767).
-inline v8s fixed2(v4f p, v4f q, float offset) {
-  return __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p * 128.0f + offset),
-                                    __builtin_ia32_cvtps2dq(q * 128.0f + offset));
+// Four pixels' channel values to four packed pixels: rounded to nearest
+// (cvtps2dq), then saturating packs to bytes.
+inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
+  v8s lo = __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p0), __builtin_ia32_cvtps2dq(p1));
+  v8s hi = __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p2), __builtin_ia32_cvtps2dq(p3));
+  return __builtin_ia32_packuswb128(lo, hi);
 }
 
-// Rows stepped in fixed point before the strip's values are computed anew
-// in float: bounds the drift of the rounded per-row steps (see below).
-constexpr int kRun = 8;
-
-// The pixels [xs, xs + n) x [ys, yEnd) (n <= W, W = 4 or 8) of a block
-// being interpolated: column xs has the value `top` at row y0 (in float,
-// channels as lanes), each column right of it `across` more, and each
-// column's value changes by `down` (column xs) plus `downAcross` per column
-// further right from row to row.
-template <int W>
-void interpolate_strip(u32* fb, int stride, int xs, int n, int y0, int yEnd, v4f top, v4f across,
-                       v4f down, v4f downAcross) {
-  v8s step[W / 2], v[W / 2];
-  v4f d = down;
-#pragma GCC unroll 4
-  for (int k = 0; k < W / 2; ++k, d += downAcross + downAcross)
-    step[k] = fixed2(d, d + downAcross, 0.0f);
-  for (int ys = y0; ys < yEnd; ys += kRun) {
-    float fy = (float)(ys - y0);
-    v4f value = top + down * fy, next = across + downAcross * fy;
-#pragma GCC unroll 4
-    for (int k = 0; k < W / 2; ++k, value += next + next)
-      v[k] = fixed2(value, value + next, 64.0f);
-    int rows = yEnd - ys < kRun ? yEnd - ys : kRun;
-    u32* row = fb + ys * stride + xs;
-    for (int r = 0; r < rows; ++r, row += stride) {
-      v4i px[W / 4];
-#pragma GCC unroll 2
-      for (int k = 0; k < W / 4; ++k)
-        px[k] = (v4i)__builtin_ia32_packuswb128(v[2 * k] >> 7, v[2 * k + 1] >> 7);
-#pragma GCC unroll 4
-      for (int k = 0; k < W / 2; ++k)
-        v[k] += step[k];
-      if (n == W) {
-#pragma GCC unroll 2
-        for (int k = 0; k < W / 4; ++k)
-          *(v4i_unaligned*)(row + 4 * k) = px[k];
-        continue;
-      }
-      for (int k = 0; k < n; ++k)
-        row[k] = (u32)px[k >> 2][k & 3];
-    }
-  }
-}
+inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 
 } // namespace
 
-// Per strip of up to 8 columns (4 for narrower blocks): each column's value
-// at row y0 and its change per row, in float; every kRun rows the strip's
-// values in 16-bit fixed point (1/128 of a channel step), then per row one
-// add per two pixels, a shift and a pack. Error against the exact bilinear
-// value before rounding: the value's rounding to 1/128 (1/256) plus up to
-// kRun - 1 rounded steps (1/256 each): 1/32 at most, so a pixel is the exact
-// value rounded unless that lies within 1/32 of a half, and exact at the
-// corners (integers, far from a half).
+// Per row, each channel's value at the block's left and right side; along
+// the row a constant step: one pixel's four channels per SSE2 register,
+// four pixels per step. Exact at the corners: row y0 starts at c00 (step
+// 0 from it), row y1 is c01 and c11 themselves, column x1 is the right side.
 void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
                           u32 c00, u32 c10, u32 c01, u32 c11) {
   int spanX = x1 - x0, spanY = y1 - y0;
   v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
   float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
-  v4f across = (b - a) * invX, down = (c - a) * invY,
-      downAcross = ((d - c) - (b - a)) * (invX * invY);
-  for (int xs = x0; xs < xEnd; xs += 8) {
-    float fx = (float)(xs - x0);
-    v4f top = a + across * fx, dn = down + downAcross * fx;
-    int n = xEnd - xs;
-    if (n > 4)
-      interpolate_strip<8>(fb, stride, xs, n < 8 ? n : 8, y0, yEnd, top, across, dn, downAcross);
-    else
-      interpolate_strip<4>(fb, stride, xs, n, y0, yEnd, top, across, dn, downAcross);
+  v4f downLeft = (c - a) * invY, downRight = (d - b) * invY; // per row
+  int stepEnd = xEnd > x1 ? x1 : xEnd; // pixels reached by stepping; x1 itself is exact
+  for (int y = y0; y < yEnd; ++y) {
+    v4f left = c, right = d;
+    if (y != y1) {
+      float fy = (float)(y - y0);
+      left = a + downLeft * fy;
+      right = b + downRight * fy;
+    }
+    v4f step = (right - left) * invX;
+    v4f p0 = left, p1 = left + step, p2 = left + step * 2.0f, p3 = left + step * 3.0f;
+    v4f step4 = step * 4.0f;
+    u32* row = fb + y * stride;
+    int x = x0;
+    for (; x + 4 <= stepEnd; x += 4) {
+      *(v4i_unaligned*)(row + x) = (v4i)pack_pixels(p0, p1, p2, p3);
+      p0 += step4;
+      p1 += step4;
+      p2 += step4;
+      p3 += step4;
+    }
+    for (; x < stepEnd; ++x) {
+      row[x] = pack_pixel(p0);
+      p0 += step;
+    }
+    // Only a block at the image's right edge owns its right corner column.
+    if (xEnd > x1) row[x1] = pack_pixel(right);
   }
 }
 

@@ -31,16 +31,19 @@ typedef char v16c __attribute__((vector_size(16)));
 typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
 typedef float v4f __attribute__((vector_size(16)));
 
-// same_path() (trace.cpp) without its loop: nodes 0-3 and 3-6 as two vectors, those past
-// `count` masked out.
-static_assert(kMaxPathNodes == 7, "same_record compares nodes 0-3 and 3-6");
-inline bool same_record(const PathRecord& a, const PathRecord& b) {
-  if (a.count != b.count) return false;
+// The four records equal (same_path() of a with each of b, c, d, in
+// trace.cpp), without its loops: nodes 0-3 and 3-6 as two vectors, those past
+// a's count masked out.
+static_assert(kMaxPathNodes == 7, "same_records compares nodes 0-3 and 3-6");
+inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRecord& c,
+                         const PathRecord& d) {
+  if (a.count != b.count || a.count != c.count || a.count != d.count) return false;
+  typedef const v4i_unaligned* V;
   v4i n = {a.count, a.count, a.count, a.count}, first = {0, 1, 2, 3}, last = {3, 4, 5, 6};
-  v4i lo = *(const v4i_unaligned*)a.node ^ *(const v4i_unaligned*)b.node;
-  v4i hi = *(const v4i_unaligned*)(a.node + 3) ^ *(const v4i_unaligned*)(b.node + 3);
-  v4i differ = (lo & (first < n)) | (hi & (last < n));
-  v4i zero = {0, 0, 0, 0};
+  v4i lo = *(V)a.node, hi = *(V)(a.node + 3);
+  v4i lo2 = (lo ^ *(V)b.node) | (lo ^ *(V)c.node) | (lo ^ *(V)d.node);
+  v4i hi2 = (hi ^ *(V)(b.node + 3)) | (hi ^ *(V)(c.node + 3)) | (hi ^ *(V)(d.node + 3));
+  v4i differ = (lo2 & (first < n)) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
   return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
 }
 
@@ -197,7 +200,7 @@ void request_pixel(Context& c, int x, int y) {
 } // namespace
 
 bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
-  if (!same_record(a.path, b.path)) return false;
+  if (!same_path(a.path, b.path)) return false;
   for (int sh = 0; sh < 24; sh += 8) {
     int d = (int)(a.packed >> sh & 255) - (int)(b.packed >> sh & 255);
     if (d > kEstimateContrast || -d > kEstimateContrast) return false;
@@ -563,8 +566,7 @@ void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
 // of one colour are not one surface. Interpolation needs equal records.
 BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
                           const CornerSample& c11, AdaptiveMode mode) {
-  bool samePath = same_record(c00.path, c10.path) && same_record(c00.path, c01.path) &&
-                  same_record(c00.path, c11.path);
+  bool samePath = same_records(c00.path, c10.path, c01.path, c11.path);
   if (!samePath) return kSplit;
   if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
     return kCopied;

@@ -112,7 +112,7 @@ struct Node {
 // Most blocks processed as one group (their new samples in one batch).
 constexpr int kGroup = 16;
 
-// Samples gathered for one call of trace_samples. A full batch is traced at
+// Samples gathered for one call of flush. A full batch is traced at
 // once; no sample of a batch depends on another, so any cut is fine.
 constexpr int kBatch = 32;
 struct Batch {
@@ -132,40 +132,34 @@ struct Context {
   int used;
 };
 
-// The one place the adaptive renderer casts primary rays: *out[i] = the
-// sample at pixel (x[i], y[i]) for i < n. The samples of one batch lie close
-// together (a line of corners, or one split block's new samples and traced
-// pixels), so a packet tracer can take them four at a time.
-void trace_samples(const AdaptiveFrame& f, int n, const int* x, const int* y, Sample* const* out,
-                   RayStats* stats) {
-  for (int i = 0; i < n; i += 4) {
-    int count = n - i < 4 ? n - i : 4;
-    float xs[4], ys[4];
-    u32 packed[4];
-    PathRecord paths[4];
-    for (int k = 0; k < count; ++k) {
-      xs[k] = (float)x[i + k];
-      ys[k] = (float)y[i + k];
-    }
-    trace_primary4_packed(*f.scene, f.cam, xs, ys, count, packed, paths, stats);
-    for (int k = 0; k < count; ++k) {
-      out[i + k]->packed = packed[k];
-      out[i + k]->path = paths[k];
-    }
-  }
-}
-
+// The one place the adaptive renderer casts primary rays: traces the batch,
+// four samples at a time (trace_primary4: an SSE2 packet; the samples of a
+// batch lie close together, a line of corners or one group's new samples
+// and traced pixels), into their slots (now known) and pixels.
 void flush(Context& c) {
   Batch& b = c.batch;
-  if (!b.n) return;
   const AdaptiveFrame& f = *c.f;
-  trace_samples(f, b.n, b.x, b.y, b.out, c.stats);
-  for (int i = 0; i < b.n; ++i) {
-    if (b.state[i]) *b.state[i] = kKnown;
-    if (b.pixel[i]) *b.pixel[i] = b.out[i]->packed;
-    if (f.kinds) {
-      u8& k = f.kinds[b.y[i] * f.width + b.x[i]];
-      if (k >> kSampleCountShift != 3) k = (u8)(k + (1 << kSampleCountShift));
+  for (int i = 0; i < b.n; i += 4) {
+    int count = b.n - i < 4 ? b.n - i : 4;
+    float xs[4] = {0, 0, 0, 0}, ys[4] = {0, 0, 0, 0};
+    Vec3 color[4];
+    PathRecord paths[4];
+    for (int k = 0; k < count; ++k) {
+      xs[k] = (float)b.x[i + k];
+      ys[k] = (float)b.y[i + k];
+    }
+    trace_primary4(*f.scene, f.cam, xs, ys, count, color, paths, c.stats);
+    for (int k = 0; k < count; ++k) {
+      int j = i + k;
+      u32 packed = pack_color(color[k]);
+      b.out[j]->packed = packed;
+      b.out[j]->path = paths[k];
+      if (b.state[j]) *b.state[j] = kKnown;
+      if (b.pixel[j]) *b.pixel[j] = packed;
+      if (f.kinds) {
+        u8& kind = f.kinds[b.y[j] * f.width + b.x[j]];
+        if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
+      }
     }
   }
   b.n = 0;

@@ -25,7 +25,7 @@
 // the midpoint of a split block's side, any point of a side at a finer
 // level) is traced by whichever block needs it first and kept for the other,
 // within a row of blocks and across rows. Samples are gathered into batches
-// and traced through one function (adaptive.cpp: trace_samples), the seam
+// and traced through one function (adaptive.cpp: flush), the seam
 // where a packet tracer takes over four primary rays at a time.
 //
 // Threads: the core has none. A frame is one work item per row of base

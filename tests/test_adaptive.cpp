@@ -618,10 +618,8 @@ TEST(AdaptiveFrame, OddSizesCoverEveryPixel) {
 }
 
 // Interpolated channels are the exact bilinear value rounded to nearest,
-// to within kInterpolationSlack: blocks 8 pixels wide step up to 7 rows in
-// 1/128 fixed point from values rounded to 1/128 (8 x 1/256, adaptive.cpp:
-// interpolate8); the others step in float along a row of up to 256 pixels.
-constexpr double kInterpolationSlack = 1.0 / 32;
+// to within kInterpolationSlack (float steps along a row of up to 256 pixels).
+constexpr double kInterpolationSlack = 1.0 / 256;
 
 TEST(AdaptiveFill, InterpolationRoundsTheBilinearValue) {
   // Seeded corners and block shapes, including blocks owning their right
@@ -636,7 +634,6 @@ TEST(AdaptiveFill, InterpolationRoundsTheBilinearValue) {
   int checked = 0;
   for (int iter = 0; iter < 2000; ++iter) {
     int w = int(next() % 17), h = int(next() % 17);
-    if (iter % 4 == 1) w = 7 + int(next() % 2); // 8 pixels wide (interpolate8)
     if (iter % 100 == 0) w = 255; // the longest row (a block of 256 at the image's edge)
     int x0 = 1 + int(next() % 3), y0 = 1 + int(next() % 3), x1 = x0 + w, y1 = y0 + h;
     int xEnd = next() % 2 ? x1 + 1 : (w ? x1 : x1 + 1);

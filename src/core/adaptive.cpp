@@ -613,51 +613,6 @@ inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
 
 inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 
-// Two pixels' channel values (lanes blue, green, red, alpha each) as 16-bit
-// lanes in units of 1/128, plus `offset` (64: rounds to nearest after >> 7);
-// cvtps2dq rounds to nearest, packssdw saturates (values stay below 32767).
-inline v8s fixed2(v4f p, v4f q, float offset) {
-  return __builtin_ia32_packssdw128(__builtin_ia32_cvtps2dq(p * 128.0f + offset),
-                                    __builtin_ia32_cvtps2dq(q * 128.0f + offset));
-}
-
-// Rows stepped in fixed point before the values are computed anew in float:
-// bounds the drift of the rounded per-row steps (adaptive_interpolate).
-constexpr int kRun = 8;
-
-// The pixels [x0, x0 + 8) x [y0, yEnd) of a block being interpolated whose
-// column x0 + k has the value a + across k at row y0 and changes by
-// down + downAcross k per row (channels as float lanes): per run of kRun
-// rows the eight values in 16-bit fixed point, two pixels a register, then
-// per row four adds, four shifts and two packs. Error before rounding: 1/256
-// (values rounded to 1/128) + 7 x 1/256 (rounded steps) = 1/32 at most.
-RT64K_COLD void interpolate8(u32* fb, int stride, int x0, int y0, int yEnd, v4f a, v4f across,
-                             v4f down, v4f downAcross) {
-  v4f downAcross2 = downAcross + downAcross;
-  v8s s0 = fixed2(down, down + downAcross, 0.0f);
-  v8s s1 = fixed2(down + downAcross2, down + downAcross2 + downAcross, 0.0f);
-  v8s s2 = fixed2(down + downAcross2 * 2.0f, down + downAcross2 * 2.0f + downAcross, 0.0f);
-  v8s s3 = fixed2(down + downAcross2 * 3.0f, down + downAcross2 * 3.0f + downAcross, 0.0f);
-  for (int ys = y0; ys < yEnd; ys += kRun) {
-    float fy = (float)(ys - y0);
-    v4f v = a + down * fy, next = across + downAcross * fy, next2 = next + next;
-    v8s v0 = fixed2(v, v + next, 64.0f);
-    v8s v1 = fixed2(v + next2, v + next2 + next, 64.0f);
-    v8s v2 = fixed2(v + next2 * 2.0f, v + next2 * 2.0f + next, 64.0f);
-    v8s v3 = fixed2(v + next2 * 3.0f, v + next2 * 3.0f + next, 64.0f);
-    int rows = yEnd - ys < kRun ? yEnd - ys : kRun;
-    u32* row = fb + ys * stride + x0;
-    for (int r = 0; r < rows; ++r, row += stride) {
-      *(v4i_unaligned*)row = (v4i)__builtin_ia32_packuswb128(v0 >> 7, v1 >> 7);
-      *(v4i_unaligned*)(row + 4) = (v4i)__builtin_ia32_packuswb128(v2 >> 7, v3 >> 7);
-      v0 += s0;
-      v1 += s1;
-      v2 += s2;
-      v3 += s3;
-    }
-  }
-}
-
 } // namespace
 
 // Per row, each channel's value at the block's left and right side; along
@@ -670,11 +625,6 @@ void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, i
   v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
   float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
   v4f downLeft = (c - a) * invY, downRight = (d - b) * invY; // per row
-  if (xEnd - x0 == 8) {
-    v4f across = (b - a) * invX;
-    interpolate8(fb, stride, x0, y0, yEnd, a, across, downLeft, (downRight - downLeft) * invX);
-    return;
-  }
   int stepEnd = xEnd > x1 ? x1 : xEnd; // pixels reached by stepping; x1 itself is exact
   for (int y = y0; y < yEnd; ++y) {
     v4f left = c, right = d;

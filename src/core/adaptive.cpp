@@ -90,8 +90,9 @@ constexpr int kSmallContrast[2] = {32, 16};
 // A block wider or taller than kMaxInterpolated pixels is copied (four equal
 // colours and records) or split, never interpolated, and the midpoints of
 // its sides are traced, not estimated: with a base block of 16 or 32 the
-// picture is that of base 8 except where a whole 16- or 32-px block is
-// copied, and those corners of the 8-px grid are not traced. Measured in
+// decisions are those of base 8 except inside a 16- or 32-px block copied
+// whole, whose inner corners of the 8-px grid are not traced (the same
+// picture where both grids end on the image's last pixel). Measured in
 // docs/speed-vs-error.md (round four): base 16 so casts 9 % fewer primary
 // rays than base 8 at the same minimum PSNR, pixels off and flicker (the
 // thesis's base 16, interpolating 16-px blocks, missed the 40-dB floor).

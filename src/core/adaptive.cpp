@@ -23,6 +23,30 @@ namespace {
 
 typedef CornerSample Sample;
 
+// SSE2 through GCC's vector extensions (as trace.cpp): no intrinsics
+// header, which would pull in the C library's.
+typedef i32 v4i __attribute__((vector_size(16)));
+typedef short v8s __attribute__((vector_size(16)));
+typedef char v16c __attribute__((vector_size(16)));
+typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
+typedef float v4f __attribute__((vector_size(16)));
+
+// The four records equal (same_path() of a with each of b, c, d, in
+// trace.cpp), without its loops: nodes 0-3 and 3-6 as two vectors, those past
+// a's count masked out.
+static_assert(kMaxPathNodes == 7, "same_records compares nodes 0-3 and 3-6");
+inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRecord& c,
+                         const PathRecord& d) {
+  if (a.count != b.count || a.count != c.count || a.count != d.count) return false;
+  typedef const v4i_unaligned* V;
+  v4i n = {a.count, a.count, a.count, a.count}, first = {0, 1, 2, 3}, last = {3, 4, 5, 6};
+  v4i lo = *(V)a.node, hi = *(V)(a.node + 3);
+  v4i lo2 = (lo ^ *(V)b.node) | (lo ^ *(V)c.node) | (lo ^ *(V)d.node);
+  v4i hi2 = (hi ^ *(V)(b.node + 3)) | (hi ^ *(V)(c.node + 3)) | (hi ^ *(V)(d.node + 3));
+  v4i differ = (lo2 & (first < n)) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
+  return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
+}
+
 // Per block or per band, not per pixel: kept out of line, which saves bytes
 // in intro.exe for a call's few instructions.
 #define RT64K_COLD __attribute__((noinline))
@@ -63,6 +87,18 @@ constexpr int kGlassContrast[2] = {16, 24};
 // flicker that the glass rule's change saves).
 constexpr int kSmallContrast[2] = {32, 16};
 
+// A block wider or taller than kMaxInterpolated pixels is copied (four equal
+// colours and records) or split, never interpolated, and the midpoints of
+// its sides are traced, not estimated: with a base block of 16 or 32 the
+// decisions are those of base 8 except inside a 16- or 32-px block copied
+// whole, whose inner corners of the 8-px grid are not traced (the same
+// picture where both grids end on the image's last pixel). Measured in
+// docs/speed-vs-error.md (round four): base 16 so casts 9 % fewer primary
+// rays than base 8 at the same minimum PSNR, pixels off and flicker (the
+// thesis's base 16, interpolating 16-px blocks, missed the 40-dB floor).
+// Base blocks up to 8 are not affected.
+constexpr int kMaxInterpolated = 8;
+
 struct Edge {
   Sample* s;
   u8* st;
@@ -88,7 +124,7 @@ struct Node {
 // Most blocks processed as one group (their new samples in one batch).
 constexpr int kGroup = 16;
 
-// Samples gathered for one call of trace_samples. A full batch is traced at
+// Samples gathered for one call of flush. A full batch is traced at
 // once; no sample of a batch depends on another, so any cut is fine.
 constexpr int kBatch = 32;
 struct Batch {
@@ -106,42 +142,37 @@ struct Context {
   Batch batch;
   Edge scratch; // the band's scratch for inner lines; `used` entries taken
   int used;
+  bool large; // the block being split is larger than kMaxInterpolated
 };
 
-// The one place the adaptive renderer casts primary rays: *out[i] = the
-// sample at pixel (x[i], y[i]) for i < n. The samples of one batch lie close
-// together (a line of corners, or one split block's new samples and traced
-// pixels), so a packet tracer can take them four at a time.
-void trace_samples(const AdaptiveFrame& f, int n, const int* x, const int* y, Sample* const* out,
-                   RayStats* stats) {
-  for (int i = 0; i < n; i += 4) {
-    int count = n - i < 4 ? n - i : 4;
-    float xs[4], ys[4];
-    u32 packed[4];
-    PathRecord paths[4];
-    for (int k = 0; k < count; ++k) {
-      xs[k] = (float)x[i + k];
-      ys[k] = (float)y[i + k];
-    }
-    trace_primary4_packed(*f.scene, f.cam, xs, ys, count, packed, paths, stats);
-    for (int k = 0; k < count; ++k) {
-      out[i + k]->packed = packed[k];
-      out[i + k]->path = paths[k];
-    }
-  }
-}
-
+// The one place the adaptive renderer casts primary rays: traces the batch,
+// four samples at a time (trace_primary4: an SSE2 packet; the samples of a
+// batch lie close together, a line of corners or one group's new samples
+// and traced pixels), into their slots (now known) and pixels.
 void flush(Context& c) {
   Batch& b = c.batch;
-  if (!b.n) return;
   const AdaptiveFrame& f = *c.f;
-  trace_samples(f, b.n, b.x, b.y, b.out, c.stats);
-  for (int i = 0; i < b.n; ++i) {
-    if (b.state[i]) *b.state[i] = kKnown;
-    if (b.pixel[i]) *b.pixel[i] = b.out[i]->packed;
-    if (f.kinds) {
-      u8& k = f.kinds[b.y[i] * f.width + b.x[i]];
-      if (k >> kSampleCountShift != 3) k = (u8)(k + (1 << kSampleCountShift));
+  for (int i = 0; i < b.n; i += 4) {
+    int count = b.n - i < 4 ? b.n - i : 4;
+    float xs[4] = {0, 0, 0, 0}, ys[4] = {0, 0, 0, 0};
+    Vec3 color[4];
+    PathRecord paths[4];
+    for (int k = 0; k < count; ++k) {
+      xs[k] = (float)b.x[i + k];
+      ys[k] = (float)b.y[i + k];
+    }
+    trace_primary4(*f.scene, f.cam, xs, ys, count, color, paths, c.stats);
+    for (int k = 0; k < count; ++k) {
+      int j = i + k;
+      u32 packed = pack_color(color[k]);
+      b.out[j]->packed = packed;
+      b.out[j]->path = paths[k];
+      if (b.state[j]) *b.state[j] = kKnown;
+      if (b.pixel[j]) *b.pixel[j] = packed;
+      if (f.kinds) {
+        u8& kind = f.kinds[b.y[j] * f.width + b.x[j]];
+        if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
+      }
     }
   }
   b.n = 0;
@@ -191,10 +222,11 @@ bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSampl
 namespace {
 
 // The midpoint of a side (slot side[mid], ends side[0] and side[len]):
-// estimated (adaptive_estimate) or asked for.
+// estimated (adaptive_estimate; not for a block larger than
+// kMaxInterpolated: c.large) or asked for.
 void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   if (side.st[mid] != kUnknown) return;
-  if (adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
+  if (!c.large && adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
     side.st[mid] = kEstimated;
     return;
   }
@@ -325,19 +357,18 @@ bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
 }
 
 // True when no colour channel of the four samples spans more than
-// limit / 255.
+// limit / 255. SSE2: per byte the largest and smallest of the four colours
+// (two lane swaps each), their difference less `limit`, saturating at 0.
 bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d, int limit) {
-  for (int sh = 0; sh < 24; sh += 8) {
-    int v[4] = {(int)(a.packed >> sh & 255), (int)(b.packed >> sh & 255),
-                (int)(c.packed >> sh & 255), (int)(d.packed >> sh & 255)};
-    int lo = v[0], hi = v[0];
-    for (int k = 1; k < 4; ++k) {
-      lo = v[k] < lo ? v[k] : lo;
-      hi = v[k] > hi ? v[k] : hi;
-    }
-    if (hi - lo > limit) return false;
-  }
-  return true;
+  v4i v = {(i32)a.packed, (i32)b.packed, (i32)c.packed, (i32)d.packed};
+  v16c hi = __builtin_ia32_pmaxub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
+  v16c lo = __builtin_ia32_pminub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
+  hi = __builtin_ia32_pmaxub128(hi, (v16c)__builtin_ia32_pshufd((v4i)hi, 0xb1));
+  lo = __builtin_ia32_pminub128(lo, (v16c)__builtin_ia32_pshufd((v4i)lo, 0xb1));
+  i32 l = limit * 0x01010101;
+  v4i limits = {l, l, l, l};
+  v16c over = __builtin_ia32_psubusb128(__builtin_ia32_psubusb128(hi, lo), (v16c)limits);
+  return (((v4i)over)[0] & 0xffffff) == 0;
 }
 
 // Blocks this size or smaller are traced per pixel (unless low_contrast).
@@ -398,6 +429,8 @@ void process_group(Context& c, Node* nodes, int count) {
              !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
              sees_glass(f, c00))
       n.kind = kSplit;
+    c.large = w > kMaxInterpolated || h > kMaxInterpolated;
+    if (c.large && n.kind == kInterpolated) n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);
       continue;
@@ -543,20 +576,12 @@ void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
 // of one colour are not one surface. Interpolation needs equal records.
 BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
                           const CornerSample& c11, AdaptiveMode mode) {
-  bool samePath = same_path(c00.path, c10.path) && same_path(c00.path, c01.path) &&
-                  same_path(c00.path, c11.path);
+  bool samePath = same_records(c00.path, c10.path, c01.path, c11.path);
   if (!samePath) return kSplit;
   if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
     return kCopied;
   return mode == kModeAdaptive ? kInterpolated : kSplit;
 }
-
-// SSE2 through GCC's vector extensions (as trace.cpp): no intrinsics
-// header, which would pull in the C library's.
-typedef i32 v4i __attribute__((vector_size(16)));
-typedef short v8s __attribute__((vector_size(16)));
-typedef char v16c __attribute__((vector_size(16)));
-typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
 
 void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
@@ -571,8 +596,6 @@ void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 
 }
 
 namespace {
-
-typedef float v4f __attribute__((vector_size(16)));
 
 // A packed colour's channels as floats, lanes blue, green, red, alpha (255).
 inline v4f channels(u32 c) {

@@ -16,7 +16,9 @@
 // (adaptive_estimate; kept also where a block is traced per pixel); and a
 // block of up to 2 `minBlock` pixels whose corner colours span at most
 // kSmallContrast per channel (32/255 at minBlock, 16/255 up to twice it) is
-// interpolated even where the records differ (kModeAdaptive only).
+// interpolated even where the records differ (kModeAdaptive only); and a
+// block larger than 8 pixels (kMaxInterpolated) is copied or split, never
+// interpolated, its sides' midpoints traced (base blocks up to 8 unaffected).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and
 // bottom corners belong to its neighbours and are only read. So every pixel
 // has exactly one writer and the picture is the same for any thread count.
@@ -25,7 +27,7 @@
 // the midpoint of a split block's side, any point of a side at a finer
 // level) is traced by whichever block needs it first and kept for the other,
 // within a row of blocks and across rows. Samples are gathered into batches
-// and traced through one function (adaptive.cpp: trace_samples), the seam
+// and traced through one function (adaptive.cpp: flush), the seam
 // where a packet tracer takes over four primary rays at a time.
 //
 // Threads: the core has none. A frame is one work item per row of base

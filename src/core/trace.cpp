@@ -236,30 +236,26 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   }
 
   if (depth >= s.maxDepth) return color;
-  if (m.reflect > 0 && weight * m.reflect >= kMinRayWeight) {
-    Vec3 R = reflect(ray.dir, N);
-    float d = dot(R, N); // spawn_origin's and leaves_for_good's product
-    ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), R}, depth + 1, weight * m.reflect,
-                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
-             m.reflect;
-  }
-  if (m.transmit > 0 && weight * m.transmit >= kMinRayWeight) {
+  // The reflected ray (k = 0), then the refracted one (k = 1): one loop, so
+  // that the spawn and the trace have one copy in the code (intro.exe: 512
+  // bytes less of trace_hit; +0.8 % instructions, docs/tracer-speed.md).
+  for (int k = 0; k < 2; ++k) {
+    float f = k ? m.transmit : m.reflect;
+    if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
+    Vec3 D;
     // Snell: eta = n1/n2; entering (front) goes air -> solid.
     float eta = hit.front ? 1.0f / m.ior : m.ior;
     float cosI = dot(N, V); // >= 0: N faces the ray
     float sin2T = eta * eta * (1.0f - cosI * cosI);
-    Vec3 T;
-    if (sin2T > 1.0f) {
-      T = reflect(ray.dir, N); // total internal reflection
-    } else {
-      T = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
-    }
-    float d = dot(T, N);
+    if (k && sin2T <= 1.0f)
+      D = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
+    else
+      D = reflect(ray.dir, N); // the mirror, or total internal reflection
+    float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
     ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), T}, depth + 1, weight * m.transmit,
+    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), D}, depth + 1, weight * f,
                    leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
-             m.transmit;
+             f;
   }
   return color;
 }

@@ -439,6 +439,113 @@ TEST(Shading, ShadowCodesMatchSegmentSphereTestsInDouble) {
   EXPECT_GT(shadowed, 1000);
 }
 
+// Scene::aloneMask (scene.cpp): a closed convex foreground solid whose
+// capsule (around its axis, or its sphere), widened by kAloneSlack, no other
+// foreground bound comes near. Distances here are far from the slack's
+// edge; the random test below probes the edge.
+TEST(Shading, AloneMaskMarksClosedSolidsClearOfOtherBounds) {
+  auto mask = [](std::initializer_list<Shape> fg, bool groundPlane) {
+    Scene s = empty_scene(kPhong);
+    for (const Shape& sh : fg)
+      scene_add(s, sh, clear_glass(1.5f));
+    if (groundPlane) scene_add_background(s, make_plane(v3(0, 1, 0), -10), diffuse_white());
+    return s.aloneMask;
+  };
+  Shape a = make_sphere(v3(0, 0, 0), 1.0f);
+  EXPECT_EQ(mask({a, make_sphere(v3(3, 0, 0), 0.5f)}, false), 3u);
+  EXPECT_EQ(mask({a, make_sphere(v3(1.4f, 0, 0), 0.5f)}, false), 0u); // bounds overlap
+  // A closed cylinder (bound radius 2.06 about (0, 2, 0)) and a sphere beside
+  // its axis: the bounding spheres overlap, the capsule (radius 0.5) does not.
+  Shape cyl = make_cylinder(v3(0, 0, 0), v3(0, 1, 0), 0.5f, 4.0f, kCapBase | kCapTop);
+  // (The sphere is not alone: the cylinder's bound comes near it.)
+  EXPECT_EQ(mask({cyl, make_sphere(v3(1.3f, 2, 0), 0.5f)}, false), 1u);
+  EXPECT_EQ(mask({cyl, make_sphere(v3(0, 5.2f, 0), 0.5f)}, false), 3u); // above the top cap
+  EXPECT_EQ(mask({cyl, make_sphere(v3(0.9f, 2, 0), 0.5f)}, false), 0u); // within reach
+  EXPECT_EQ(mask({cyl, make_sphere(v3(0, 4.9f, 0), 0.5f)}, false), 2u); // at the cap
+  // Open frusta are not closed convex solids; a cone's apex needs no cap.
+  Shape open = make_cylinder(v3(0, 0, 0), v3(0, 1, 0), 0.5f, 4.0f, kCapBase);
+  EXPECT_EQ(mask({open, make_sphere(v3(3, 2, 0), 0.5f)}, false), 2u);
+  Shape cone = make_cone(v3(0, 0, 0), v3(0, 1, 0), 1.0f, 0.0f, 2.0f, kCapBase);
+  EXPECT_EQ(mask({cone, make_sphere(v3(3, 2, 0), 0.5f)}, false), 3u);
+  // A background object is never tested against a ray that found a
+  // foreground hit; a foreground plane may be hit from anywhere.
+  EXPECT_EQ(mask({a, make_sphere(v3(3, 0, 0), 0.5f)}, true), 3u);
+  EXPECT_EQ(mask({a, make_plane(v3(0, 1, 0), -10)}, false), 0u);
+  // A triangle is flat, never alone; it clears a solid it comes near.
+  EXPECT_EQ(mask({a, make_triangle(v3(5, 0, 0), v3(6, 0, 0), v3(5, 1, 0))}, false), 1u);
+  EXPECT_EQ(mask({a, make_triangle(v3(0.5f, 0, 0), v3(6, 0, 0), v3(5, 1, 0))}, false), 0u);
+}
+
+// Rays into an alone solid test only that solid (trace.cpp, trace_from).
+// Seeded scenes of a glass sphere, a glass closed cylinder and a glass cone
+// with opaque and glass spheres placed 0.9 .. 1.3 times the test's reach
+// from them (so both sides of the slack's edge occur), rays from outside
+// and inside the solids: the colour (every bit), the record and the ray
+// counts are those with aloneMask cleared.
+TEST(Shading, RaysIntoAloneSolidsTraceAsWithoutTheShortcut) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), f(0.9f, 1.3f);
+  long rays = 0, differ = 0, glassHits = 0, nearAlone = 0, nearNot = 0;
+  for (int sceneIndex = 0; sceneIndex < 60; ++sceneIndex) {
+    Scene s = empty_scene(sceneIndex % 2 ? kPhong : kCookTorrance);
+    s.maxDepth = 6;
+    s.ambient = v3(0.1f);
+    s.background = v3(0.3f, 0.5f, 0.8f);
+    scene_add_light(s, v3(5 * u(rng), 6, 5 * u(rng)), v3(1));
+    scene_add_light(s, v3(5 * u(rng), 3, 5 * u(rng)), v3(0.6f));
+    Material glass = make_mat(v3(0.9f, 0.95f, 1), 0.05f, 0.8f, 80, 0.1f, 0.85f, 1.5f, 0.15f, 0.05f);
+    Material gold = make_mat(v3(1, 0.7f, 0.2f), 0.5f, 0.9f, 40, 0.4f, 0, 1, 0.25f, 0.8f);
+    Vec3 axis = normalize(v3(0.3f * u(rng), 1, 0.3f * u(rng)));
+    Shape solid[3] = {make_sphere(v3(-3, 1.5f, 0), 0.8f),
+                      make_cylinder(v3(0, 0.2f, 0), axis, 0.6f, 2.5f, kCapBase | kCapTop),
+                      make_cone(v3(3, 0.2f, 0), axis, 0.9f, 0.0f, 2.0f, kCapBase)};
+    for (const Shape& sh : solid)
+      scene_add(s, sh, glass);
+    // Two spheres next to solids, at f times the reach of the test.
+    for (int k = 0; k < 2; ++k) {
+      int i = (sceneIndex + k) % 3;
+      const Shape& c = solid[i];
+      float r = 0.3f + 0.2f * (u(rng) + 1);
+      Vec3 side =
+          normalize(cross(c.kind == kSphere ? v3(0, 1, 0) : c.b, v3(u(rng), u(rng), u(rng))));
+      float reach = (r + kBoundPad * (r + 4) + (c.kind == kSphere ? c.r0 : rt_max(c.r0, c.r1)) +
+                     kAloneSlack * c.size) *
+                    (1 + kAloneSlack);
+      Vec3 foot = c.kind == kSphere ? c.a : c.a + c.b * (c.h * 0.5f * (u(rng) + 1));
+      scene_add(s, make_sphere(foot + side * (reach * f(rng)), r), k ? gold : glass);
+    }
+    scene_add_background(s, make_plane(v3(0, 1, 0), 0), gold);
+    for (int k = 0; k < 2; ++k) {
+      bool alone = s.aloneMask >> ((sceneIndex + k) % 3) & 1;
+      nearAlone += alone;
+      nearNot += !alone;
+    }
+    Scene plain = s;
+    plain.aloneMask = 0;
+    for (int k = 0; k < 1500; ++k) {
+      // From around the scene towards a solid, or from inside one.
+      const Shape& c = solid[k % 3];
+      Vec3 centre = c.kind == kSphere ? c.a : c.a + c.b * (0.5f * c.h);
+      Vec3 org = k % 4 == 3 ? centre + v3(u(rng), u(rng), u(rng)) * 0.3f
+                            : v3(6 * u(rng), 1.5f + 3 * u(rng), 6 * u(rng));
+      Vec3 dir = normalize(centre + v3(u(rng), u(rng), u(rng)) * 0.8f - org);
+      PathRecord ra{}, rb{};
+      TraceContext ca{&s, {0, 0, 0}, &ra}, cb{&plain, {0, 0, 0}, &rb};
+      Vec3 x = trace(ca, Ray{org, dir}, 1), y = trace(cb, Ray{org, dir}, 1);
+      ++rays;
+      glassHits += (ra.node[0] & 31u) >= 1 && (ra.node[0] & 31u) <= 3;
+      if (std::memcmp(&x, &y, sizeof x) != 0 || !same_path(ra, rb) ||
+          ca.stats.secondary != cb.stats.secondary || ca.stats.shadow != cb.stats.shadow)
+        ++differ;
+    }
+  }
+  EXPECT_EQ(differ, 0) << "of " << rays;
+  // Both sides of the edge: solids with a sphere just beyond reach, and within.
+  EXPECT_GT(nearAlone, 20);
+  EXPECT_GT(nearNot, 20);
+  EXPECT_GT(glassHits, rays / 3);
+}
+
 TEST(Shading, RecursionStopsAtMaxDepth) {
   // Two facing mirrors: the ray would bounce forever; maxDepth ends it.
   for (int depth : {1, 2, 5, 8}) {

@@ -325,39 +325,6 @@ TEST(Packet, RaysOnTheStageDiagonalMatchAndDoNotLeak) {
   EXPECT_GT(perTriangle[1], m.rays / 10);
 }
 
-// Rays into a closed convex solid that no other foreground bound comes near
-// (Scene::aloneMask) test that solid alone (trace.cpp, trace_from): over
-// 20 frames of both scenes, every pixel of 240x180 gives the same colour (every
-// bit), record and ray counts as with the mask cleared (no shortcut). The
-// scenes' glass is alone in these frames: scene 2's cylinders always, scene
-// 1's glass spheres mostly.
-TEST(Packet, AloneSolidsShortcutChangesNoPixel) {
-  long pixels = 0, differ = 0, aloneGlass = 0;
-  for (int i = 0; i < 20; ++i) {
-    double t = 3.2 * i + 1.1;
-    Scene s;
-    build_timeline_scene(s, t);
-    Scene plain = s;
-    plain.aloneMask = 0;
-    for (int k = 0; k < s.numForeground; ++k)
-      aloneGlass += (s.aloneMask >> k & 1) && s.objects[k].mat.transmit > 0;
-    CameraRays cam = camera_rays(s.camera, 240, 180);
-    for (int y = 0; y < 180; ++y)
-      for (int x = 0; x < 240; ++x) {
-        Ray ray = primary_ray(cam, (float)x, (float)y);
-        PathRecord ra{}, rb{};
-        TraceContext ca{&s, {0, 0, 0}, &ra}, cb{&plain, {0, 0, 0}, &rb};
-        Vec3 a = trace(ca, ray, 1), b = trace(cb, ray, 1);
-        ++pixels;
-        if (!same_bits(a, b) || !same_path(ra, rb) || ca.stats.secondary != cb.stats.secondary ||
-            ca.stats.shadow != cb.stats.shadow)
-          ++differ;
-      }
-  }
-  EXPECT_EQ(differ, 0) << "of " << pixels;
-  EXPECT_GT(aloneGlass, 30); // of 40 glass objects in the 20 frames
-}
-
 // The full renderer (packets of four pixels of a row, a short packet at the
 // right edge when the width is not a multiple of 4) writes trace()'s pixels
 // for any row range, and counts the same rays.

@@ -150,28 +150,6 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
 
 Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
-// A secondary ray leaving a hit on object `id`: trace(), skipping the
-// object when the ray leaves it for good. A ray into a closed convex solid
-// that is `alone` (Scene::aloneMask, with the ray's origin near enough to
-// its surface) meets the solid before anything else: its segment to the
-// exit stays inside the solid's capsule, clear of every other foreground
-// bound, so no other foreground hit can be nearer, and with a foreground
-// hit no background object is tested. So the solid is tested alone; where
-// that test finds no hit (rounding at a rim), trace() decides as before.
-// Same object, hit and colour as trace() (tests/test_shading.cpp,
-// tests/test_packet.cpp: RaysIntoAloneSolids..., AloneSolidsShortcut...).
-__attribute__((always_inline)) inline Vec3 trace_from(TraceContext& ctx, const Ray& ray, int depth,
-                                                      float weight, int id, bool leaves,
-                                                      bool alone) {
-  if (!leaves && alone) {
-    Hit hit;
-    hit.t = kHuge;
-    if (intersect_t(ctx.scene->objects[id].shape, ray, 0.0f, hit))
-      return trace_hit(ctx, ray, id, hit, depth, weight);
-  }
-  return trace(ctx, ray, depth, weight, leaves ? 1u << id : 0);
-}
-
 } // namespace
 
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
@@ -258,11 +236,9 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   }
 
   if (depth >= s.maxDepth) return color;
-  // trace_from(): the origin within kAloneSlack / 2 of the size off the surface.
-  bool alone = (s.aloneMask >> id & 1) && off <= 0.5f * kAloneSlack * obj.shape.size;
   // The reflected ray (k = 0), then the refracted one (k = 1): one loop, so
   // that the spawn and the trace have one copy in the code (intro.exe: 512
-  // bytes less of trace_hit; +0.6 % instructions, docs/tracer-speed.md).
+  // bytes less of trace_hit; +0.8 % instructions, docs/tracer-speed.md).
   for (int k = 0; k < 2; ++k) {
     float f = k ? m.transmit : m.reflect;
     if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
@@ -277,8 +253,8 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
       D = reflect(ray.dir, N); // the mirror, or total internal reflection
     float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
     ++ctx.stats.secondary;
-    color += trace_from(ctx, Ray{spawn_origin_dot(p, N, d, off), D}, depth + 1, weight * f, id,
-                        leaves_for_good_dot(obj.shape, hit, d), alone) *
+    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), D}, depth + 1, weight * f,
+                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
              f;
   }
   return color;

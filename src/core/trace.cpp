@@ -239,15 +239,19 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   // The reflected ray (k = 0), then the refracted one (k = 1): one loop, so
   // that the spawn and the trace have one copy in the code (intro.exe: 512
   // bytes less of trace_hit; +0.8 % instructions, docs/tracer-speed.md).
-  for (int k = 0; k < 2; ++k) {
-    float f = k ? m.transmit : m.reflect;
+  // Snell: eta = n1/n2; entering (front) goes air -> solid.
+  float eta = hit.front ? 1.0f / m.ior : m.ior;
+  float cosI = dot(N, V); // >= 0: N faces the ray
+  float sin2T = eta * eta * (1.0f - cosI * cosI);
+  // Under total internal reflection (sin2T > 1) the refracted ray is the
+  // mirror ray: one ray carries both weights (reflect + transmit) instead
+  // of the same ray traced twice (docs/tracer-speed.md, round five).
+  bool tir = sin2T > 1.0f;
+  for (int k = 0; k < 2 - tir; ++k) {
+    float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
     if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
     Vec3 D;
-    // Snell: eta = n1/n2; entering (front) goes air -> solid.
-    float eta = hit.front ? 1.0f / m.ior : m.ior;
-    float cosI = dot(N, V); // >= 0: N faces the ray
-    float sin2T = eta * eta * (1.0f - cosI * cosI);
-    if (k && sin2T <= 1.0f)
+    if (k)
       D = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
     else
       D = reflect(ray.dir, N); // the mirror, or total internal reflection

@@ -239,14 +239,18 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   // The reflected ray (k = 0), then the refracted one (k = 1): one loop, so
   // that the spawn and the trace have one copy in the code (intro.exe: 512
   // bytes less of trace_hit; +0.8 % instructions, docs/tracer-speed.md).
-  // Snell: eta = n1/n2; entering (front) goes air -> solid.
-  float eta = hit.front ? 1.0f / m.ior : m.ior;
-  float cosI = dot(N, V); // >= 0: N faces the ray
-  float sin2T = eta * eta * (1.0f - cosI * cosI);
   // Under total internal reflection (sin2T > 1) the refracted ray is the
   // mirror ray: one ray carries both weights (reflect + transmit) instead
   // of the same ray traced twice (docs/tracer-speed.md, round five).
-  bool tir = sin2T > 1.0f;
+  float eta = 1, cosI = 1, sin2T = 0;
+  bool tir = false;
+  if (m.transmit > 0) {
+    // Snell: eta = n1/n2; entering (front) goes air -> solid.
+    eta = hit.front ? 1.0f / m.ior : m.ior;
+    cosI = dot(N, V); // >= 0: N faces the ray
+    sin2T = eta * eta * (1.0f - cosI * cosI);
+    tir = sin2T > 1.0f;
+  }
   for (int k = 0; k < 2 - tir; ++k) {
     float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
     if (!(f > 0 && weight * f >= kMinRayWeight)) continue;

@@ -566,6 +566,47 @@ TEST(Refraction, TotalInternalReflectionAboveCriticalAngle) {
   std::printf("[ measured ] total internal reflection: max |sin(i) - sin(r)| = %.3g\n", worst);
 }
 
+// Under total internal reflection the refracted ray would be the mirror
+// ray: trace_hit casts it once with both weights, reflect + transmit (round
+// five, docs/tracer-speed.md). The camera inside a glass half-space (below
+// y = 0, index 1.5) looks up at the surface at 60 deg (critical angle 41.8
+// deg); the reflected ray lands on a red diffuse target at y = -2 lit by a
+// red light. Same pixel as a mirror of reflect = reflect + transmit, bit for
+// bit, with one secondary ray (the same ray traced twice before); reflect
+// 0.01 alone is below kMinRayWeight, so before it was cut and the colour
+// lost 1/61 of itself. Below the critical angle both rays are still cast.
+TEST(Refraction, TotalInternalReflectionCastsOneRayWithBothWeights) {
+  const float n = 1.5f;
+  for (float reflect : {0.3f, 0.01f}) {
+    for (double deg : {60.0, 30.0}) {
+      Vec3 c[2];
+      RayStats st[2];
+      for (int mirror = 0; mirror < 2; ++mirror) {
+        Scene s = empty_scene(kPhong);
+        Material glass = mirror ? make_mat(v3(1), 0, 0, 1, reflect + 0.6f, 0, 1)
+                                : make_mat(v3(1), 0, 0, 1, reflect, 0.6f, n);
+        scene_add(s, make_plane(v3(0, 1, 0), 0), glass);
+        scene_add(s, make_plane(v3(0, 1, 0), 2), make_mat(v3(0, 1, 0), 1, 0, 1, 0, 0, 1));
+        scene_add(s, make_plane(v3(0, 1, 0), -2), make_mat(v3(1, 0, 0), 1, 0, 1, 0, 0, 1));
+        scene_add_light(s, v3(0, -1.5f, 0), v3(1, 0, 0));
+        Vec3 dir = v3(float(std::sin(deg * kDeg)), float(std::cos(deg * kDeg)), 0);
+        c[mirror] = shoot(s, dir * -0.5f, dir, &st[mirror]);
+      }
+      ASSERT_GT(c[1].x, 0.0f) << deg;
+      if (deg > 45) { // total internal reflection: the mirror's pixel and ray count
+        EXPECT_EQ(st[0].secondary, 1u) << reflect;
+        EXPECT_EQ(st[0].secondary, st[1].secondary) << reflect;
+        EXPECT_EQ(c[0].x, c[1].x) << reflect;
+        EXPECT_EQ(c[0].y, 0.0f);
+      } else { // refracted (up, green target unlit: 0) and reflected: two rays
+        EXPECT_EQ(st[0].secondary, reflect >= kMinRayWeight ? 2u : 1u) << reflect;
+        float share = reflect >= kMinRayWeight ? reflect / (reflect + 0.6f) : 0.0f;
+        EXPECT_NEAR(c[0].x, c[1].x * share, 1e-6f) << reflect;
+      }
+    }
+  }
+}
+
 // Snell's law in vector form (the textbook refraction of unit I at unit N
 // facing it, eta = n1 / n2), in double.
 D3 refract_ref(D3 I, D3 N, double eta) {

@@ -50,7 +50,9 @@ struct TraceContext {
 // move the pixel by less than kShadowSkip (weight times its largest channel
 // unshadowed): it counts as lit. These are choices of the
 // tracer (full and adaptive renderers trace alike), not adaptive-renderer
-// errors (docs/speed-vs-error.md).
+// errors (docs/speed-vs-error.md). Under total internal reflection the
+// refracted ray would be the mirror ray: one ray is cast with weight reflect
+// + transmit (docs/tracer-speed.md, round five).
 // The result is finite and non-negative in every channel. Objects whose bit
 // (1 << index) is set in `skip` are not tested: a secondary ray skips the
 // object it leaves when leaves_for_good() (shapes.h) says it cannot meet it again.

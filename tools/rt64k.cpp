@@ -172,7 +172,13 @@ std::string num(double v) {
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
-std::string vec(Vec3 v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+std::string vec(Vec3 v) {
+  // One snprintf (as num's "%.9g"): GCC 12's -Wrestrict misfires on the
+  // chain of string concatenations this was (a false positive, GCC PR 105329).
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "[%.9g, %.9g, %.9g]", double(v.x), double(v.y), double(v.z));
+  return buf;
+}
 std::string hex(uint32_t c) {
   char buf[16];
   std::snprintf(buf, sizeof buf, "\"#%06x\"", c & 0xffffffu);

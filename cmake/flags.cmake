@@ -22,9 +22,29 @@ set(RT64K_CODE_SIZE_FLAGS
     # the last two -80 bytes more, a further -1.3 to -1.9 %.
     -fno-tree-fre -fno-code-hoisting -fno-tree-scev-cprop -fno-strict-aliasing
     -fno-move-loop-invariants -fira-region=one
-    -fno-tree-forwprop -fno-tree-tail-merge)
+    -fno-tree-forwprop -fno-tree-tail-merge
+    # Round five (docs/win32.md "Round five: each measure"): -144 bytes of
+    # UPX1 alone, instructions -0.33 / 0.00 / -0.49 % (adaptive8 at 12 and
+    # 44 s, full at 12 s), the same PNGs.
+    -fno-tree-dominator-opts)
 set(RT64K_CORE_FLAGS ${RT64K_FP_FLAGS} -ffreestanding -fno-exceptions -fno-rtti
     -fno-tree-loop-distribute-patterns -O2 ${RT64K_CODE_SIZE_FLAGS})
+
+# The hot sources of intro.exe (everything in src/core the renderer runs per
+# pixel; src/core/packet/ is the native tool's alternative to scalar/). Each
+# may carry flags of its own after RT64K_CORE_FLAGS, RT64K_HOT_FLAGS_<stem>
+# (<stem>: the file's name without .cpp), in every build; measurement builds
+# add RT64K_HOT_EXTRA_<stem> on the command line (-D...), after them.
+set(RT64K_HOT_SOURCES src/core/adaptive.cpp src/core/rtmath.cpp src/core/shapes.cpp
+    src/core/trace.cpp src/core/scalar/primary.cpp)
+# Round five, per file (docs/win32.md "Round five: each measure"): each flag
+# priced on its file alone in the exe and by callgrind in the native tool;
+# the same flag on another hot file cost bytes or instructions (PRE on
+# trace.cpp +2 %). rtmath.cpp's functions (rt_pow, rt_exp, rt_sin, rt_cos...)
+# cost no measurable instruction at -Os.
+set(RT64K_HOT_FLAGS_adaptive -fno-tree-pre)
+set(RT64K_HOT_FLAGS_shapes -fno-tree-sink)
+set(RT64K_HOT_FLAGS_rtmath -Os)
 
 # Sources that run once per frame or once per run (scene building, captions,
 # the synth at start-up): compiled at -Os instead of -O2 in every build, to

@@ -157,6 +157,11 @@ row "core: without round three's -fno flags (-ftree-fre -fcode-hoisting -ftree-s
 row "cold sources and src/win32: without round three's -fno flags (-fmove-loop-invariants -fcode-hoisting -ftree-dominator-opts -fcaller-saves)" round3_cold \
   "-DRT64K_COLD_EXTRA=-fmove-loop-invariants;-fcode-hoisting;-ftree-dominator-opts;-fcaller-saves" \
   -DRT64K_WIN32_OPT=-Os
+# Round five (docs/win32.md): the hot core's flags taken back (per file:
+# RT64K_HOT_EXTRA_<stem> comes after cmake/flags.cmake's RT64K_HOT_FLAGS_<stem>).
+row "hot core: without round five's flags (-ftree-dominator-opts; adaptive.cpp -ftree-pre, shapes.cpp -ftree-sink, rtmath.cpp -O2)" round5 \
+  -DRT64K_HOT_EXTRA=-ftree-dominator-opts -DRT64K_HOT_EXTRA_adaptive=-ftree-pre \
+  -DRT64K_HOT_EXTRA_shapes=-ftree-sink -DRT64K_HOT_EXTRA_rtmath=-O2
 sed 's/^    \*(\.text\$\*)$/    *(SORT(.text$*))/' "$root/src/win32/intro.ld" >"$work/sorted.ld"
 row "intro.ld: functions sorted by name (as before round three)" sorted_ld -DRT64K_LINKER_SCRIPT="$work/sorted.ld"
 row "non-LTO function sections aligned and padded to 16 bytes (GNU as's PE default; before round four)" padded \

@@ -46,8 +46,9 @@ TEST(Overlay, FontHoldsEveryCaptionCharacter) {
   for (int i = 0; i < kCaptionCount; ++i)
     for (const char* p = kCaptions[i].text; *p; ++p) {
       used[(unsigned char)*p] = true;
-      if (*p != ' ' && *p != '\n')
+      if (*p != ' ' && *p != '\n') {
         EXPECT_GE(overlay_glyph(*p), 0) << "'" << *p << "' in " << kCaptions[i].text;
+      }
     }
   int glyphs = 0;
   for (int ch = 1; ch < 256; ++ch) {

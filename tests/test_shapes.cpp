@@ -1084,7 +1084,9 @@ TEST(OpenFrustum, InnerWallSeenThroughOpening) {
 // an interior point of the closed solid must hit it from outside, for a
 // closed cylinder, a cone with its apex and a closed frustum with random
 // axes; the rays in the cull's regime (by its documented rule, in double)
-// are counted so that both sides of its reach are exercised.
+// are counted so that both sides of its reach are exercised. (Since round
+// seven the cull also takes the rays solved from a point clamped into the
+// slab: the next test.)
 TEST(FrustumCull, BeyondTheReachMissesInsideHits) {
   Rng g(4242);
   long beyond = 0, outsideNear = 0;
@@ -1142,6 +1144,118 @@ TEST(FrustumCull, BeyondTheReachMissesInsideHits) {
               beyond, outsideNear);
   EXPECT_GT(beyond, 15000);
   EXPECT_GT(outsideNear, 15000);
+}
+
+// The cull in the slab regime (round seven): a ray the frame solves from
+// its point clamped into the slab (u.u < c.z: within 45 deg of the axis, or
+// any ray on a flat frustum) is culled on its distance from the axis at
+// that point, which is the least distance of the ray's part inside the
+// slab, where every hit lies. Seeded rays at that reach's edge, each
+// against the double reference (hit or miss, piece, side, t), bands
+// excluded as in part 2: near-axis rays through a cap at rc (1 - delta)
+// from the axis (cap rims, the wide end of cones and frusta), tangent
+// lines rmax (1 - delta) from the axis with their nearest point in the
+// slab (grazing the side), rays past a cone's apex, rays from inside, and
+// lines rmax (1 + delta) out that must miss; delta = 2^-12 .. 2^-3. A cull
+// that dropped a real hit fails it: the reach at min(r0, r1) (cones and
+// frusta), at rmax (1 - 2^-10) (grazing), or |v| taken at the ray's own
+// origin instead of the clamped point (tested by hand: each fails here).
+TEST(FrustumCull, SlabRegimeKeepsEveryHitAtTheReach) {
+  Rng g(7007);
+  long checked = 0, grazingHits = 0, capRimHits = 0, misses = 0, skipped = 0;
+  for (int kind = 0; kind < 6; ++kind) {
+    for (int shape = 0; shape < 12; ++shape) {
+      D3 axis = rand_unit(g), base{uni(g, -3, 3), uni(g, -1, 3), uni(g, -3, 3)};
+      double r0 = uni(g, 0.3, 1.5), h = uni(g, 0.5, 4), r1 = r0;
+      u8 caps = kCapBase | kCapTop;
+      switch (kind) {
+      case 1:
+        r1 = 0;
+        caps = kCapBase;
+        break; // cone, apex on top
+      case 2:
+        r1 = r0 * uni(g, 0.3, 0.9);
+        break; // closed frustum narrowing
+      case 3:
+        r1 = r0 * uni(g, 1.2, 2.5);
+        break; // widening (the wide cap on top)
+      case 4:
+        h = r0 * uni(g, 0.1, 0.6);
+        r1 = r0 * uni(g, 2.2, 3);
+        break; // flat side: |k| > 1
+      case 5:
+        r1 = r0 * uni(g, 0.4, 0.8);
+        caps = 0;
+        break; // open at both ends
+      default:
+        break;
+      }
+      Shape s = kind == 0 ? make_cylinder(fv(base), fv(axis), float(r0), float(h), caps)
+                          : make_cone(fv(base), fv(axis), float(r0), float(r1), float(h), caps);
+      ASSERT_NE(s.kind, kEmpty);
+      D3 a = dv(s.b), b0 = dv(s.a);
+      double rmax = std::max<double>(s.r0, s.r1), size = h + rmax;
+      D3 e1, e2;
+      frame(a, e1, e2);
+      for (int i = 0; i < 600; ++i) {
+        // A direction within 45 deg of the axis (flat frustum: any), either way along it.
+        double c = kind == 4 ? uni(g, -1, 1) : (i % 2 ? 1 : -1) * uni(g, 0.72, 1.0);
+        double ph = uni(g, 0, 2 * M_PI), sn = std::sqrt(std::max(0.0, 1 - c * c));
+        D3 d = a * c + e1 * (sn * std::cos(ph)) + e2 * (sn * std::sin(ph));
+        double delta = loguni(g, 1.0 / 4096, 1.0 / 8);
+        D3 q; // a point the ray goes through
+        int cls = i % 5;
+        double ps = uni(g, 0, 2 * M_PI);
+        D3 radial = e1 * std::cos(ps) + e2 * std::sin(ps);
+        if (cls == 0) { // through a cap's disc at rc (1 - delta): the rim
+          bool top = g() & 1;
+          double rc = top ? s.r1 : s.r0;
+          if (rc == 0) continue;
+          q = b0 + a * (top ? h : 0.0) + radial * (rc * (1 - delta));
+          if ((dot(d, a) > 0) == top) d = -d; // arrive from outside the slab
+        } else if (cls == 1 || cls == 4) {    // a line rmax (1 -+ delta) from the axis
+          D3 n = cross(d, a);
+          if (norm(n) < 1e-6) continue;
+          n = unit(n);
+          double y = uni(g, 0.02, 0.98) * h;
+          q = b0 + a * y + n * (rmax * (cls == 1 ? 1 - delta : 1 + delta));
+        } else if (cls == 2) { // past a cone's apex (or the narrow end) on the axis
+          double y = s.r1 <= s.r0 ? h : 0.0;
+          q = b0 + a * y + radial * (rmax * delta);
+        } else { // from inside the solid
+          double y = uni(g, 0.05, 0.95) * h, ry = (r0 + (r1 - r0) * y / h) * uni(g, 0, 0.95);
+          q = b0 + a * y + radial * ry;
+        }
+        Vec3 o = cls == 3 ? fv(q) : fv(q - d * (size * uni(g, 1.5, 5))), fd = fdir(d);
+        Cast cst = cast(s, o, fd);
+        Ref r = ref_intersect(s, dv(o), dv(fd));
+        double S = maxabs(dv(o) - b0) + maxabs(b0) + size;
+        if (near_degenerate(s, dv(o), dv(fd), r, kPerturb * S)) {
+          ++skipped;
+          continue;
+        }
+        ++checked;
+        ASSERT_EQ(cst.hit, r.hit) << "kind " << kind << " shape " << shape << " ray " << i
+                                  << " class " << cls;
+        if (!r.hit) {
+          ++misses;
+          EXPECT_TRUE(untouched(cst, kHuge));
+          continue;
+        }
+        EXPECT_EQ(cst.h.front, r.front) << kind << " " << shape << " " << i;
+        double kappa = 1 / std::max(std::fabs(dot(r.n, dv(fd))), 1e-12);
+        EXPECT_NEAR(cst.h.t, r.t, kTTol * S * kappa) << kind << " " << shape << " " << i;
+        grazingHits += cls == 1;
+        capRimHits += cls == 0 && r.piece != 0;
+      }
+    }
+  }
+  std::printf("slab-regime cull: %ld rays checked (%ld grazing hits, %ld cap-rim hits, %ld "
+              "misses), %ld in the band\n",
+              checked, grazingHits, capRimHits, misses, skipped);
+  EXPECT_GT(grazingHits, 2000);
+  EXPECT_GT(capRimHits, 2000);
+  EXPECT_GT(misses, 2000);
 }
 
 // A cast at a hard case: a hit is valid and on the surface within kSurfTol of

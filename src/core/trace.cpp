@@ -33,7 +33,9 @@ __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& 
     f4 fz = oz - *(const f4*)(s.boundZ + g);
     f4 b = fx * dx + fy * dy + fz * dz;
     f4 c = fx * fx + fy * fy + fz * fz - *(const f4*)(s.boundR2 + g);
-    auto miss = (b * b < c) | ((c > zero) & (b > zero));
+    // min(b, c) > 0: both are (one minps). A NaN ray (never a hit) may be
+    // culled here where the two compares kept it for intersect_t().
+    auto miss = (b * b < c) | (__builtin_ia32_minps(b, c) > zero);
     u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
     mask |= (m << g) & range;
   }

@@ -149,7 +149,7 @@ struct Context {
 // four samples at a time (trace_primary4: an SSE2 packet; the samples of a
 // batch lie close together, a line of corners or one group's new samples
 // and traced pixels), into their slots (now known) and pixels.
-void flush(Context& c) {
+RT64K_HOT_ABI void flush(Context& c) {
   Batch& b = c.batch;
   const AdaptiveFrame& f = *c.f;
   for (int i = 0; i < b.n; i += 4) {
@@ -180,7 +180,7 @@ void flush(Context& c) {
 
 // Asks for the sample at (x, y) into slot e[0]: traced unless already
 // traced, asked for or estimated.
-void request(Context& c, int x, int y, Edge e) {
+RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   if (*e.st != kUnknown) return;
   *e.st = kPending;
   Batch& b = c.batch;
@@ -194,7 +194,7 @@ void request(Context& c, int x, int y, Edge e) {
 
 // Asks for the pixel (x, y) inside a block, which no other block reads:
 // traced straight into the framebuffer.
-void request_pixel(Context& c, int x, int y) {
+RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
   Batch& b = c.batch;
   b.x[b.n] = x;
   b.y[b.n] = y;
@@ -224,7 +224,7 @@ namespace {
 // The midpoint of a side (slot side[mid], ends side[0] and side[len]):
 // estimated (adaptive_estimate; not for a block larger than
 // kMaxInterpolated: c.large) or asked for.
-void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
+RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   if (side.st[mid] != kUnknown) return;
   if (!c.large && adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
     side.st[mid] = kEstimated;
@@ -233,7 +233,7 @@ void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   request(c, x, y, side + mid);
 }
 
-Edge allocate(Context& c, int count) {
+RT64K_HOT_ABI Edge allocate(Context& c, int count) {
   Edge e = c.scratch + c.used;
   c.used += count;
   for (int i = 0; i < count; ++i)
@@ -241,8 +241,8 @@ Edge allocate(Context& c, int count) {
   return e;
 }
 
-Node make_node(int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top, Edge bottom, Edge left,
-               Edge right) {
+RT64K_HOT_ABI Node make_node(int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top,
+                             Edge bottom, Edge left, Edge right) {
   Node n;
   n.x0 = x0;
   n.y0 = y0;
@@ -258,7 +258,7 @@ Node make_node(int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top, Edg
 }
 
 // The slot of pixel (x, y) if it lies on a side of the node, else {null}.
-Edge side_slot(const Node& n, int x, int y) {
+RT64K_HOT_ABI Edge side_slot(const Node& n, int x, int y) {
   if (y == n.y0) return n.top + (x - n.x0);
   if (y == n.y1) return n.bottom + (x - n.x0);
   if (x == n.x0) return n.left + (y - n.y0);
@@ -266,12 +266,12 @@ Edge side_slot(const Node& n, int x, int y) {
   return Edge{nullptr, nullptr};
 }
 
-int grid_count(int size, int block) {
+RT64K_HOT_ABI int grid_count(int size, int block) {
   int n = (size - 1 + block - 1) / block + 1;
   return n < 2 ? 2 : n;
 }
 
-int grid_coord(int i, int block, int size) {
+RT64K_HOT_ABI int grid_coord(int i, int block, int size) {
   int c = i * block;
   return c < size - 1 ? c : size - 1;
 }
@@ -280,7 +280,7 @@ int grid_coord(int i, int block, int size) {
 // the inner lines of the split blocks alive at once: per level one group of
 // blocks (one at the base level, four at the next, then at most kGroup); a
 // child is at most half its parent, rounded up.
-int band_scratch(int baseBlock) {
+RT64K_HOT_ABI int band_scratch(int baseBlock) {
   int total = 2 * (baseBlock + 1), nodes = 1;
   for (int s = baseBlock; s >= 2; s = (s + 1) / 2) {
     total += nodes * 2 * (s + 1);
@@ -289,14 +289,14 @@ int band_scratch(int baseBlock) {
   return total;
 }
 
-int states_as_samples(int states) {
+RT64K_HOT_ABI int states_as_samples(int states) {
   return (states + (int)sizeof(Sample) - 1) / (int)sizeof(Sample);
 }
 
 // The caller's buffer: the lines of corners (gridH x width samples), then
 // each band's scratch, then one state byte per sample of both, then the
 // bands' queue (Queue: two counters, then a done flag per band).
-int sample_slots(const AdaptiveFrame& f) {
+RT64K_HOT_ABI int sample_slots(const AdaptiveFrame& f) {
   return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
 }
 
@@ -307,23 +307,23 @@ struct Queue {
 
 int queue_bytes(int bands) { return (int)sizeof(Queue) + bands; }
 
-Queue* queue(const AdaptiveFrame& f) {
+RT64K_HOT_ABI Queue* queue(const AdaptiveFrame& f) {
   int samples = sample_slots(f);
   return (Queue*)(f.corners + samples + states_as_samples(samples));
 }
 
-Edge line_edge(const AdaptiveFrame& f, int k) {
+RT64K_HOT_ABI Edge line_edge(const AdaptiveFrame& f, int k) {
   u8* states = (u8*)(f.corners + sample_slots(f));
   return Edge{f.corners + k * f.width, states + k * f.width};
 }
 
-Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
+RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
   int offset = f.gridH * f.width + band * band_scratch(f.baseBlock);
   u8* states = (u8*)(f.corners + sample_slots(f));
   return Edge{f.corners + offset, states + offset};
 }
 
-void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
+RT64K_HOT_ABI void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
   if (!f.kinds) return;
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x) {
@@ -332,14 +332,14 @@ void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
     }
 }
 
-RT64K_COLD void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
+RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
   mark(f, b, kCopied);
   if (f.showBlocks) packed = tint_copied(packed);
   adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-RT64K_COLD void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01,
-                            u32 c11) {
+RT64K_COLD RT64K_HOT_ABI void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10,
+                                          u32 c01, u32 c11) {
   mark(f, b, kInterpolated);
   adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
   if (!f.showBlocks) return;
@@ -348,7 +348,7 @@ RT64K_COLD void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 
       f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
 }
 
-bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
+RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
   for (int i = 0; i < s.path.count; ++i) {
     int id = (int)(s.path.node[i] & 31) - 1;
     if (id >= 0 && f.scene->objects[id].mat.transmit > 0) return true;
@@ -359,7 +359,8 @@ bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
 // True when no colour channel of the four samples spans more than
 // limit / 255. SSE2: per byte the largest and smallest of the four colours
 // (two lane swaps each), their difference less `limit`, saturating at 0.
-bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d, int limit) {
+RT64K_HOT_ABI bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d,
+                                int limit) {
   v4i v = {(i32)a.packed, (i32)b.packed, (i32)c.packed, (i32)d.packed};
   v16c hi = __builtin_ia32_pmaxub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   v16c lo = __builtin_ia32_pminub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
@@ -372,7 +373,7 @@ bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sampl
 }
 
 // Blocks this size or smaller are traced per pixel (unless low_contrast).
-bool is_small(const AdaptiveFrame& f, int w, int h) {
+RT64K_HOT_ABI bool is_small(const AdaptiveFrame& f, int w, int h) {
   return (w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2);
 }
 
@@ -381,7 +382,7 @@ bool is_small(const AdaptiveFrame& f, int w, int h) {
 // read them), the rest straight into the picture. After it: writes the
 // pixels on its sides from their slots; an estimated one counts as
 // interpolated in `kinds`.
-RT64K_COLD void trace_block(Context& c, const Node& n, bool written) {
+RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool written) {
   const AdaptiveFrame& f = *c.f;
   if (written) mark(f, n, kTraced);
   for (int y = n.y0; y < n.yEnd; ++y)
@@ -405,7 +406,7 @@ RT64K_COLD void trace_block(Context& c, const Node& n, bool written) {
 // or asks for the samples of those traced per pixel and the new samples of
 // those split, traces them in one batch, then processes each split block's
 // children the same way.
-void process_group(Context& c, Node* nodes, int count) {
+RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
   int used = c.used;
   for (int i = 0; i < count; ++i) {
@@ -510,12 +511,12 @@ void process_group(Context& c, Node* nodes, int count) {
 
 // Line k of corners is traced by one band next to it: an even band, or the
 // last band when only that odd band touches it.
-int line_owner(int k, int bands) {
+RT64K_HOT_ABI int line_owner(int k, int bands) {
   if (k % 2 == 0) return k < bands ? k : k - 1;
   return k - 1;
 }
 
-RT64K_COLD void trace_line(Context& c, int k) {
+RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
   Edge line = line_edge(f, k);
   for (int x = 0; x < f.width; ++x)
@@ -533,14 +534,14 @@ RT64K_COLD void trace_line(Context& c, int k) {
 
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
-RT64K_COLD void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
+RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
   for (int i = 1; i < h; ++i)
     col.st[i] = kUnknown;
   copy_slot(col, 0, top, x);
   copy_slot(col, h, bottom, x);
 }
 
-void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
+RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   Context c;
   c.f = &f;
   c.stats = stats;

@@ -44,6 +44,7 @@
 // been taken and the next odd band's neighbours are still running, and even
 // bands wait for nothing, so they finish and the odd band becomes ready.
 #pragma once
+#include "abi.h"
 #include "trace.h"
 
 enum AdaptiveMode : u8 {
@@ -87,22 +88,24 @@ constexpr u8 kKindMask = 3;
 constexpr int kSampleCountShift = 6;
 
 // The decision for a block with these four corner samples.
-BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
-                          const CornerSample& c11, AdaptiveMode mode);
+RT64K_HOT_ABI BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10,
+                                        const CornerSample& c01, const CornerSample& c11,
+                                        AdaptiveMode mode);
 
 // The midpoint of a block's side whose ends are a and b, estimated instead
 // of traced: when the records of a and b are equal and their colours differ
 // by at most kEstimateContrast (8) / 255 per channel (adaptive.cpp), sets mid
 // to their record and rounded mean colour and returns true.
-bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid);
+RT64K_HOT_ABI bool adaptive_estimate(const CornerSample& a, const CornerSample& b,
+                                     CornerSample& mid);
 
 // Number of CornerSample entries the caller's `corners` buffer needs for a
 // frame of this size and base block (baseBlock in 2..kMaxBaseBlock).
-int adaptive_corner_count(int width, int height, int baseBlock);
+RT64K_HOT_ABI int adaptive_corner_count(int width, int height, int baseBlock);
 
 // Prepares the frame (camera, grid, the bands' queue). Call once per frame,
 // before any thread takes a band.
-void adaptive_begin(AdaptiveFrame& f);
+RT64K_HOT_ABI void adaptive_begin(AdaptiveFrame& f);
 
 // Work items in the frame: its bands.
 int adaptive_items(const AdaptiveFrame& f);
@@ -113,23 +116,24 @@ int adaptive_items(const AdaptiveFrame& f);
 // band has been handed out. Safe to call from any number of threads at once
 // (atomic operations on the caller's buffer).
 constexpr int kAdaptiveWait = -2, kAdaptiveDone = -1;
-int adaptive_take(const AdaptiveFrame& f);
+RT64K_HOT_ABI int adaptive_take(const AdaptiveFrame& f);
 
 // Runs band `band` (from adaptive_take()), marks it done for the bands that
 // wait on it, and adds the rays it cast to *stats (not null).
-void adaptive_run(const AdaptiveFrame& f, int band, RayStats* stats);
+RT64K_HOT_ABI void adaptive_run(const AdaptiveFrame& f, int band, RayStats* stats);
 
 // The pixels [x0, xEnd) x [y0, yEnd) of fb (`stride` pixels per row) set to
 // `packed` (colour copy), with SSE2.
-void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed);
+RT64K_HOT_ABI void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd,
+                                 u32 packed);
 
 // Bilinear interpolation over the pixels [x0, xEnd) x [y0, yEnd) of fb
 // (xEnd <= x1 + 1, yEnd <= y1 + 1) of the packed colours c00 at (x0, y0),
 // c10 at (x1, y0), c01 at (x0, y1), c11 at (x1, y1): 8.16 fixed point per
 // channel, rounded to nearest, exact at the corners; alpha 255. SSE2, four
 // pixels a step.
-void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
-                          u32 c00, u32 c10, u32 c01, u32 c11);
+RT64K_HOT_ABI void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1,
+                                        int xEnd, int yEnd, u32 c00, u32 c10, u32 c01, u32 c11);
 
 // The showBlocks tints (thesis fig. 5.1: red = colour copy, blue = interpolated).
 u32 tint_copied(u32 packed);

@@ -78,6 +78,7 @@
 // hull. leaves_for_good() tells which; the tracer then skips the shape for
 // that ray instead of relying on spawn_origin() alone.
 #pragma once
+#include "abi.h"
 #include "rtmath.h"
 
 struct Ray {
@@ -158,15 +159,15 @@ Shape make_cylinder(Vec3 base, Vec3 axis, float radius, float height, u8 caps);
 Shape make_cone(Vec3 base, Vec3 axis, float baseRadius, float topRadius, float height, u8 caps);
 Shape make_triangle(Vec3 a, Vec3 b, Vec3 c);
 
-bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit);
+RT64K_HOT_ABI bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit);
 
 // intersect() in two steps, for a tracer that tests several shapes and needs
 // one normal: intersect_t() finds the hit as intersect() does (same t, same
 // accept/reject) but writes only hit.t, hit.piece and hit.local; then
 // hit_normal(), with the same shape and ray, writes hit.normal and hit.front
 // exactly as intersect() would have. A shadow ray needs no normal at all.
-bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit);
-void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
+RT64K_HOT_ABI bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit);
+RT64K_HOT_ABI void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
 
 // A sphere enclosing the shape (radius kHuge for a plane), padded by
 // kBoundPad relative so that rounding never culls a real hit.

@@ -1,5 +1,6 @@
 // trace.h - the recursive ray tracer, shading, camera and the full-trace renderer.
 #pragma once
+#include "abi.h"
 #include "packet/primary.h"
 #include "scene.h"
 
@@ -30,7 +31,7 @@ struct PathRecord {
   u8 count;
   u32 node[kMaxPathNodes];
 };
-bool same_path(const PathRecord& a, const PathRecord& b);
+RT64K_HOT_ABI bool same_path(const PathRecord& a, const PathRecord& b);
 
 struct TraceContext {
   const Scene* scene;
@@ -56,7 +57,8 @@ struct TraceContext {
 // The result is finite and non-negative in every channel. Objects whose bit
 // (1 << index) is set in `skip` are not tested: a secondary ray skips the
 // object it leaves when leaves_for_good() (shapes.h) says it cannot meet it again.
-Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f, u32 skip = 0);
+RT64K_HOT_ABI Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f,
+                         u32 skip = 0);
 constexpr float kMinRayWeight = 1.0f / 64;
 constexpr float kShadowSkip = 2.0f / 255;
 // A specular term is taken as 0 without computing it where it is below
@@ -76,7 +78,8 @@ constexpr float kSpecExp = 16.0f;
 // it records the ray, shades the hit and casts the secondary rays, exactly
 // as trace() would. The packet tracer (packet/packet.h) finds first hits its
 // own way and shades each lane through here.
-Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight);
+RT64K_HOT_ABI Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth,
+                             float weight);
 // trace_hit() of a ray that hits nothing (id < 0), inline: its node (0) in
 // the record and the background, without trace_hit's frame set-up (~20
 // instructions a miss).
@@ -124,15 +127,15 @@ struct CameraRays {
   Vec3 org, corner, dx, dy;
   PrimaryTerms terms;
 };
-CameraRays camera_rays(const Camera& cam, int width, int height);
-CameraRays camera_rays(const Scene& scene, int width, int height);
+RT64K_HOT_ABI CameraRays camera_rays(const Camera& cam, int width, int height);
+RT64K_HOT_ABI CameraRays camera_rays(const Scene& scene, int width, int height);
 inline Ray primary_ray(const CameraRays& c, float x, float y) {
   return Ray{c.org, normalize(c.corner + c.dx * (x + 0.5f) + c.dy * (y + 0.5f))};
 }
 
 // 0xAARRGGBB (BGRA in memory, as a Win32 DIB wants), channels clamped to
 // [0, 1] and rounded; NaN maps to 0.
-u32 pack_color(Vec3 c);
+RT64K_HOT_ABI u32 pack_color(Vec3 c);
 // pack_color() of c[0..3] into out[0..3] (the full trace's rows of packets).
 void pack_color4(const Vec3 c[4], u32 out[4]);
 

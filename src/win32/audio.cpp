@@ -38,9 +38,9 @@ bool audio_start(const short* samples) {
       g.header.dwFlags |= WHDR_BEGINLOOP | WHDR_ENDLOOP;
       g.header.dwLoops = 0xFFFFFFFF;
       if (waveOutWrite(g.device, &g.header, sizeof g.header) == MMSYSERR_NOERROR) return true;
-      waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
     }
-    waveOutClose(g.device);
+    // A device that refused the buffer stays open, silent, until the process
+    // exits (which closes it): no waveOutUnprepareHeader, waveOutClose imports.
   }
   g.device = nullptr; // audio_stop then does nothing
   return false;
@@ -63,7 +63,7 @@ double audio_seconds() {
 
 void audio_stop() {
   if (!g.device) return;
+  // Silence now; the exit that always follows (quit) closes the device with
+  // its prepared header (docs/win32.md, round seven: two imports fewer).
   waveOutReset(g.device);
-  waveOutUnprepareHeader(g.device, &g.header, sizeof g.header);
-  waveOutClose(g.device);
 }

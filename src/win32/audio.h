@@ -23,6 +23,7 @@ bool audio_start(const short* samples);
 // Only meaningful after audio_start returned true.
 double audio_seconds();
 
-// Stops playback and closes the device. Does nothing when audio_start was
-// never called or returned false.
+// Stops playback at once (waveOutReset); the device stays open for the
+// process's exit to close, which must follow (intro.exe's quit). Does nothing
+// when audio_start was never called or returned false.
 void audio_stop();

@@ -162,6 +162,12 @@ row "cold sources and src/win32: without round three's -fno flags (-fmove-loop-i
 row "hot core: without round five's flags (-ftree-dominator-opts; adaptive.cpp -ftree-pre, shapes.cpp -ftree-sink, rtmath.cpp -O2)" round5 \
   -DRT64K_HOT_EXTRA=-ftree-dominator-opts -DRT64K_HOT_EXTRA_adaptive=-ftree-pre \
   -DRT64K_HOT_EXTRA_shapes=-ftree-sink -DRT64K_HOT_EXTRA_rtmath=-O2
+# Round seven (docs/win32.md): the hot core's calling convention taken back
+# (src/core/abi.h), and the red zone its System V functions would have.
+row "hot core in the Win64 calling convention (RT64K_HOT_ABI_MS; before round seven)" win64_abi \
+  -DRT64K_FEATURES=RT64K_HOT_ABI_MS
+row "without -mno-red-zone (the System V functions' red zone, which Win64 does not allow)" red_zone \
+  -DRT64K_ABI_FLAGS=
 sed 's/^    \*(\.text\$\*)$/    *(SORT(.text$*))/' "$root/src/win32/intro.ld" >"$work/sorted.ld"
 row "intro.ld: functions sorted by name (as before round three)" sorted_ld -DRT64K_LINKER_SCRIPT="$work/sorted.ld"
 row "non-LTO function sections aligned and padded to 16 bytes (GNU as's PE default; before round four)" padded \

@@ -13,6 +13,7 @@
 // per lane by the scalar intersect_t(). Shading and all secondary and
 // shadow rays are the scalar trace_hit() per lane.
 #pragma once
+#include "abi.h"
 #include "trace.h"
 
 // First hit of the ray from cam.org along unit `dir`: as first_hit().
@@ -34,8 +35,9 @@ Vec3 trace_primary(TraceContext& ctx, const CameraRays& cam, float x, float y);
 // not null, paths[k] is reset and receives the sample's PathRecord. The
 // shadow and secondary rays cast are added to *stats, and `count` primary
 // rays. Lanes k >= count are left alone.
-void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4], const float y[4],
-                    int count, Vec3 color[4], PathRecord* paths, RayStats* stats);
+RT64K_HOT_ABI void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
+                                  const float y[4], int count, Vec3 color[4], PathRecord* paths,
+                                  RayStats* stats);
 
 // trace_primary4() packed for a framebuffer (pack_color()).
 inline void trace_primary4_packed(const Scene& scene, const CameraRays& cam, const float x[4],

@@ -11,6 +11,7 @@
 // nearest the base (shapes.cpp), and primary rays test them through the
 // general intersect_t().
 #pragma once
+#include "abi.h"
 #include "scene.h"
 
 struct PrimaryTerms {
@@ -38,4 +39,4 @@ struct PrimaryTerms {
 };
 
 // The terms of `scene` for rays from `org`.
-void primary_terms(const Scene& scene, Vec3 org, PrimaryTerms& out);
+RT64K_HOT_ABI void primary_terms(const Scene& scene, Vec3 org, PrimaryTerms& out);

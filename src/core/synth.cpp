@@ -450,9 +450,7 @@ SynthReport synth_render(short* out, int frames, float* scratch) {
   float* dR = dL + kDelayAlloc;
   for (int i = 0; i < 2 * kDelayAlloc; ++i)
     dL[i] = 0.0f;
-  Voice pool[kVoices];
-  for (Voice& v : pool)
-    v.active = 0;
+  Voice pool[kVoices] = {};
   SynthReport rep{0.0f, 0, 0};
   int pos = 0;
   float lpL = 0.0f, lpR = 0.0f, duck = 0.0f, duckCoef = halflife_coef(kDuckRelease);

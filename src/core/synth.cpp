@@ -486,7 +486,7 @@ SynthReport synth_render(short* out, int frames, float* scratch) {
       for (int c = 0; c < 2; ++c) { // left, right
         float y = (mix[i + c * kBlockMax] + echo[c]) * g + mix[i + (2 + c) * kBlockMax] * kMaster;
         rep.peak = rt_max(rep.peak, rt_abs(y));
-        out[2 * t + c] = (short)rt_round(rt_clamp(y, -1.0f, 1.0f) * 32767.0f);
+        out[2 * t + c] = (short)rt_round(y * 32767.0f); // |y| < 1: see synth.h
       }
     }
   }

@@ -413,10 +413,10 @@ void render_voice(Voice& v, float* mix, int n) {
     if (v.ph2 >= 1.0f) v.ph2 -= 1.0f;
     float x = v.wave ? v.ph + v.ph2 - 1.0f // two saws
                      : rt_sin_turns(v.ph + v.fm * v.amp * rt_sin_turns(v.ph2));
-    if (v.noise > 0.0f) {
-      v.seed = v.seed * 1664525u + 1013904223u;
-      x += ((float)(i32)v.seed * (1.0f / 2147483648.0f) - x) * v.noise;
-    }
+    // Noise, on every voice: with a share of 0 it adds a zero (x is unchanged
+    // but for the sign of a zero, which no output sample keeps).
+    v.seed = v.seed * 1664525u + 1013904223u;
+    x += ((float)(i32)v.seed * (1.0f / 2147483648.0f) - x) * v.noise;
     float y = x;
     if (v.mode != 3) {
       // Chamberlin state-variable filter (low += f band; band += f (x - low - q band)),

@@ -54,7 +54,7 @@ enum Kind : u8 {
 // 150 ~ 700 Hz, 192 ~ 1.75 kHz, 224 ~ 3.5 kHz; capped at kMaxCut (~5.8 kHz).
 struct ChannelDef {
   u8 kind, base; // base: MIDI note of pattern note field 1 (chord channels: added to the chord)
-  u8 patterns;   // number of patterns before this channel's pattern 'a' in kEvents
+  u8 patterns;   // number of patterns before this channel's pattern 'a' in kGrids
   u8 wave;       // 0 sine, phase-modulated by osc 2 (FM); 1 two saws
   u8 osc2;       // wave 0: modulator ratio osc2/16; else osc 2 detuned by ratio 1 + osc2/2048
   u8 fm;         // wave 0: modulation index fm/32 turns, scaled by the amplitude envelope
@@ -105,13 +105,65 @@ const ChannelDef kChannelDefs[kChannels] = {
   {kPlain,       57, 45,  0,   0,   0, 255, 205, 255, 255, 112, 220, -7, 176, 15 << 2 | 1,  0,  0,  88,   0,  80}, // RISER noise sweep
 };
 
-// A pattern is a run of events, one per note, in step order; the last one
-// has kLast in its step. Note byte: bits 0-4 note field (1-31), bits 5-7
-// length code (kLength) or, on drum channels, velocity code.
-struct Event {
-  u8 step, note;
+// A pattern is one bar: a grid of the steps that start a note (kGrids,
+// bit k = step k) and one note byte per such step, in step order, in
+// kNotes (pattern p's notes follow those of patterns 0..p-1). Note byte:
+// bits 0-4 note field (1-31), bits 5-7 length code (kLength) or, on drum
+// channels, velocity code.
+constexpr u16 grid(const char (&g)[17]) {
+  u16 m = 0;
+  for (int k = 0; k < 16; ++k)
+    m |= (u16)((g[k] == 'x') << k);
+  return m;
+}
+const u16 kGrids[] = {
+  grid("x..............."), // PAD a
+  grid("x..............."), // PAD b
+  grid("..x...x...x..x.."), // STAB a
+  grid("..x...x...x.x.x."), // STAB b
+  grid("x..............."), // SUB a
+  grid("..xx..xx..xx..xx"), // BASS a
+  grid("..xx..xx..xx.xxx"), // BASS b
+  grid("x..............."), // BASS c
+  grid("x..x..x.x.x.x..."), // LEAD a
+  grid("x..x..x.x.x.x..."), // LEAD b
+  grid("x..x..x.x.x.x.x."), // LEAD c
+  grid("x..x..x...x.x..."), // LEAD d
+  grid("x.x.x...x.x.x..."), // LEAD e
+  grid("x..x..x.x.x.x..."), // LEAD f
+  grid("x..x..x.x.x.x..."), // LEAD g
+  grid("x.....x.x...x.x."), // LEAD h
+  grid("x.x.x.......x..."), // LEAD i
+  grid("x.....x........."), // BELL a
+  grid("x...........x..."), // BELL b
+  grid("x..............."), // BELL c
+  grid("x.....x.x......."), // BELL d
+  grid("....x...x......."), // BELL e
+  grid("x.......x......."), // BELL f
+  grid("x.......x...x..."), // BELL g
+  grid("x.......x...x..."), // BELL h
+  grid("x.......x......."), // BELL i
+  grid("x.......x......."), // BELL j
+  grid("x...x...x......."), // BELL k
+  grid("........x......."), // METAL a
+  grid("........x......."), // KICK a
+  grid("x.x............."), // KICK b
+  grid("x.x.....x.x....."), // KICK c
+  grid("x...x...x...x.x."), // KICK d
+  grid("x...x...x...x..."), // KICK e
+  grid("x...x...x......."), // KICK f
+  grid("........x......."), // SNARE a
+  grid("xxxxxxxxxxxxxxxx"), // SNARE b
+  grid("....x.......x..."), // SNARE c
+  grid("....x.......x.xx"), // SNARE d
+  grid("....x..........."), // SNARE e
+  grid("..x...x...x...x."), // HAT a
+  grid("xxxxxxxxxxxxxxxx"), // HAT b
+  grid("..x...x...x...x."), // OHAT a
+  grid("........x......."), // CRASH a
+  grid("x..............."), // CRASH b
+  grid("x..............."), // RISER a
 };
-constexpr u8 kLast = 0x80;
 constexpr u8 n(int field, int code) { return (u8)(code << 5 | field); }
 enum Len { l1, l2, l3, l4, l6, l8, l16, l32 };
 const u8 kLength[8] = {1, 2, 3, 4, 6, 8, 16, 32};
@@ -123,67 +175,67 @@ enum Note {
 constexpr u8 ld(int midi, int len) { return n(midi - 68, len); }  // LEAD, base 69
 constexpr u8 bl(int midi, int len) { return n(midi - 56, len); }  // BELL and METAL, base 57
 
-const Event kEvents[] = {
+const u8 kNotes[] = {
   // PAD: a, whole chord for two bars; b, one bar an octave up
-  {kLast | 0, n(1, l32)},
-  {kLast | 0, n(13, l16)},
+  n(1, l32),
+  n(13, l16),
   // STAB: a, offbeats and a push; b, offbeats and an extra
-  {2, n(1,l1)}, {6, n(1,l1)}, {10, n(1,l1)}, {kLast | 13, n(1,l2)},
-  {2, n(1,l1)}, {6, n(1,l1)}, {10, n(1,l1)}, {12, n(1,l1)}, {kLast | 14, n(1,l1)},
+  n(1,l1), n(1,l1), n(1,l1), n(1,l2),
+  n(1,l1), n(1,l1), n(1,l1), n(1,l1), n(1,l1),
   // SUB: a, the root for two bars
-  {kLast | 0, n(1, l32)},
+  n(1, l32),
   // BASS: a, rolling offbeat 16ths (root, octave 13, fifth 8); b, with the seventh (11); c, held
-  {2, 1}, {3, 1}, {6, 13}, {7, 1}, {10, 1}, {11, 1}, {14, 13}, {kLast | 15, 8},
-  {2, 1}, {3, 1}, {6, 13}, {7, 1}, {10, 13}, {11, 1}, {13, 11}, {14, 13}, {kLast | 15, 8},
-  {kLast | 0, n(1, l16)},
+  1, 1, 13, 1, 1, 1, 13, 8,
+  1, 1, 13, 1, 13, 1, 11, 13, 8,
+  n(1, l16),
   // LEAD: a-d over D A Bm G; e-h over D F#m G A; i the last bar (A7)
-  {0, ld(A5,l3)}, {3, ld(Fs5,l3)}, {6, ld(D6,l2)}, {8, ld(Cs6,l2)}, {10, ld(A5,l2)}, {kLast | 12, ld(Fs5,l4)},
-  {0, ld(E5,l3)}, {3, ld(A5,l3)}, {6, ld(Cs6,l2)}, {8, ld(B5,l2)}, {10, ld(A5,l2)}, {kLast | 12, ld(E5,l4)},
-  {0, ld(Fs5,l3)}, {3, ld(B5,l3)}, {6, ld(D6,l2)}, {8, ld(Cs6,l2)}, {10, ld(B5,l2)}, {12, ld(Fs5,l2)}, {kLast | 14, ld(A5,l2)},
-  {0, ld(G5,l3)}, {3, ld(B5,l3)}, {6, ld(D6,l4)}, {10, ld(B5,l2)}, {kLast | 12, ld(A5,l4)},
-  {0, ld(D6,l2)}, {2, ld(E6,l2)}, {4, ld(Fs6,l4)}, {8, ld(E6,l2)}, {10, ld(D6,l2)}, {kLast | 12, ld(A5,l4)},
-  {0, ld(Cs6,l3)}, {3, ld(A5,l3)}, {6, ld(Fs5,l2)}, {8, ld(A5,l2)}, {10, ld(Cs6,l2)}, {kLast | 12, ld(E6,l4)},
-  {0, ld(D6,l3)}, {3, ld(B5,l3)}, {6, ld(G5,l2)}, {8, ld(B5,l2)}, {10, ld(D6,l2)}, {kLast | 12, ld(G6,l4)},
-  {0, ld(E6,l6)}, {6, ld(Cs6,l2)}, {8, ld(A5,l4)}, {12, ld(E5,l2)}, {kLast | 14, ld(G5,l2)},
-  {0, ld(Cs6,l2)}, {2, ld(E6,l2)}, {4, ld(A6,l8)}, {kLast | 12, ld(G6,l4)},
+  ld(A5,l3), ld(Fs5,l3), ld(D6,l2), ld(Cs6,l2), ld(A5,l2), ld(Fs5,l4),
+  ld(E5,l3), ld(A5,l3), ld(Cs6,l2), ld(B5,l2), ld(A5,l2), ld(E5,l4),
+  ld(Fs5,l3), ld(B5,l3), ld(D6,l2), ld(Cs6,l2), ld(B5,l2), ld(Fs5,l2), ld(A5,l2),
+  ld(G5,l3), ld(B5,l3), ld(D6,l4), ld(B5,l2), ld(A5,l4),
+  ld(D6,l2), ld(E6,l2), ld(Fs6,l4), ld(E6,l2), ld(D6,l2), ld(A5,l4),
+  ld(Cs6,l3), ld(A5,l3), ld(Fs5,l2), ld(A5,l2), ld(Cs6,l2), ld(E6,l4),
+  ld(D6,l3), ld(B5,l3), ld(G5,l2), ld(B5,l2), ld(D6,l2), ld(G6,l4),
+  ld(E6,l6), ld(Cs6,l2), ld(A5,l4), ld(E5,l2), ld(G5,l2),
+  ld(Cs6,l2), ld(E6,l2), ld(A6,l8), ld(G6,l4),
   // BELL: a-k, bars 5-15 of scene 1 (Gm A7 A7 Dm Dm Bb Bb Eb Eb A7 A7)
-  {0, bl(D5,l4)}, {kLast | 6, bl(Bb4,l4)},
-  {0, bl(Cs5,l8)}, {kLast | 12, bl(E5,l4)},
-  {kLast | 0, bl(A4,l16)},
-  {0, bl(F5,l6)}, {6, bl(E5,l2)}, {kLast | 8, bl(D5,l8)},
-  {4, bl(A4,l4)}, {kLast | 8, bl(C5,l8)},
-  {0, bl(D5,l8)}, {kLast | 8, bl(F5,l8)},
-  {0, bl(A5,l8)}, {8, bl(G5,l4)}, {kLast | 12, bl(F5,l4)},
-  {0, bl(G5,l8)}, {8, bl(Bb5,l4)}, {kLast | 12, bl(G5,l4)},
-  {0, bl(F5,l8)}, {kLast | 8, bl(Eb5,l8)},
-  {0, bl(E5,l8)}, {kLast | 8, bl(Cs5,l8)},
-  {0, bl(E5,l4)}, {4, bl(G5,l4)}, {kLast | 8, bl(Cs6,l8)},
+  bl(D5,l4), bl(Bb4,l4),
+  bl(Cs5,l8), bl(E5,l4),
+  bl(A4,l16),
+  bl(F5,l6), bl(E5,l2), bl(D5,l8),
+  bl(A4,l4), bl(C5,l8),
+  bl(D5,l8), bl(F5,l8),
+  bl(A5,l8), bl(G5,l4), bl(F5,l4),
+  bl(G5,l8), bl(Bb5,l4), bl(G5,l4),
+  bl(F5,l8), bl(Eb5,l8),
+  bl(E5,l8), bl(Cs5,l8),
+  bl(E5,l4), bl(G5,l4), bl(Cs6,l8),
   // METAL: a, the knock at 9 s (bar 4, step 8)
-  {kLast | 8, bl(A5,l2)},
+  bl(A5,l2),
   // KICK (field 5 the kick, field 1 the knock's lower boom): a knock; b, c heartbeat;
   // d build; e four to the floor; f the last bar
-  {kLast | 8, n(1,7)},
-  {0, n(5,4)}, {kLast | 2, n(5,2)},
-  {0, n(5,4)}, {2, n(5,2)}, {8, n(5,4)}, {kLast | 10, n(5,2)},
-  {0, n(5,4)}, {4, n(5,4)}, {8, n(5,5)}, {12, n(5,6)}, {kLast | 14, n(5,5)},
-  {0, n(5,7)}, {4, n(5,7)}, {8, n(5,7)}, {kLast | 12, n(5,7)},
-  {0, n(5,7)}, {4, n(5,7)}, {kLast | 8, n(5,7)},
+  n(1,7),
+  n(5,4), n(5,2),
+  n(5,4), n(5,2), n(5,4), n(5,2),
+  n(5,4), n(5,4), n(5,5), n(5,6), n(5,5),
+  n(5,7), n(5,7), n(5,7), n(5,7),
+  n(5,7), n(5,7), n(5,7),
   // SNARE: a soft half-time; b roll; c backbeat; d backbeat and fill; e last bar
-  {kLast | 8, n(1,2)},
-  {0, n(1,0)}, {1, n(1,0)}, {2, n(1,1)}, {3, n(1,1)}, {4, n(1,2)}, {5, n(1,2)}, {6, n(1,3)}, {7, n(1,3)}, {8, n(1,4)}, {9, n(1,4)}, {10, n(1,5)}, {11, n(1,5)}, {12, n(1,6)}, {13, n(1,6)}, {14, n(1,7)}, {kLast | 15, n(1,7)},
-  {4, n(1,7)}, {kLast | 12, n(1,7)},
-  {4, n(1,7)}, {12, n(1,7)}, {14, n(1,3)}, {kLast | 15, n(1,5)},
-  {kLast | 4, n(1,7)},
+  n(1,2),
+  n(1,0), n(1,0), n(1,1), n(1,1), n(1,2), n(1,2), n(1,3), n(1,3), n(1,4), n(1,4), n(1,5), n(1,5), n(1,6), n(1,6), n(1,7), n(1,7),
+  n(1,7), n(1,7),
+  n(1,7), n(1,7), n(1,3), n(1,5),
+  n(1,7),
   // HAT: a soft offbeat 8ths; b 16ths with accented offbeats
-  {2, n(1,3)}, {6, n(1,3)}, {10, n(1,3)}, {kLast | 14, n(1,3)},
-  {0, n(1,2)}, {1, n(1,1)}, {2, n(1,6)}, {3, n(1,1)}, {4, n(1,2)}, {5, n(1,1)}, {6, n(1,6)}, {7, n(1,2)}, {8, n(1,2)}, {9, n(1,1)}, {10, n(1,6)}, {11, n(1,1)}, {12, n(1,2)}, {13, n(1,1)}, {14, n(1,6)}, {kLast | 15, n(1,3)},
+  n(1,3), n(1,3), n(1,3), n(1,3),
+  n(1,2), n(1,1), n(1,6), n(1,1), n(1,2), n(1,1), n(1,6), n(1,2), n(1,2), n(1,1), n(1,6), n(1,1), n(1,2), n(1,1), n(1,6), n(1,3),
   // OHAT: a offbeats
-  {2, n(1,4)}, {6, n(1,4)}, {10, n(1,4)}, {kLast | 14, n(1,4)},
+  n(1,4), n(1,4), n(1,4), n(1,4),
   // CRASH: a soft, at the knock; b downbeat
-  {kLast | 8, n(1,6)},
-  {kLast | 0, n(1,7)},
+  n(1,6),
+  n(1,7),
   // RISER: a, two bars
-  {kLast | 0, n(1, l32)},
+  n(1, l32),
 };
 
 // Chords: root (for kRoot channels) and four tones, MIDI notes.
@@ -301,16 +353,11 @@ bool trigger(int song, Voice* pool, SynthReport& rep) {
     char o = kSong[32 * (1 + c) + bar];
     if (o == '.') continue;
     const ChannelDef& d = kChannelDefs[c];
-    const Event* e = kEvents; // skip to the pattern's first event
-    for (int k = d.patterns + o - 'a'; k > 0; --k) {
-      while (!(e->step & kLast))
-        ++e;
-      ++e;
-    }
-    while ((e->step & 15) != pos && !(e->step & kLast))
-      ++e;
-    if ((e->step & 15) != pos) continue;
-    int b = e->note;
+    int p = d.patterns + o - 'a', at = 16 * p + pos, i = 0;
+    if (!(kGrids[p] >> pos & 1)) continue; // no note at this step
+    for (int q = 0; q < at; ++q)           // the notes before it, in all patterns
+      i += kGrids[q >> 4] >> (q & 15) & 1;
+    int b = kNotes[i];
     kick |= c == KICK;
     int code = b >> 5, note = d.base + (b & 31) - 1, steps = kLength[code];
     float vel = 1.0f;
@@ -366,10 +413,10 @@ void render_voice(Voice& v, float* mix, int n) {
     if (v.ph2 >= 1.0f) v.ph2 -= 1.0f;
     float x = v.wave ? v.ph + v.ph2 - 1.0f // two saws
                      : rt_sin_turns(v.ph + v.fm * v.amp * rt_sin_turns(v.ph2));
-    if (v.noise > 0.0f) {
-      v.seed = v.seed * 1664525u + 1013904223u;
-      x += ((float)(i32)v.seed * (1.0f / 2147483648.0f) - x) * v.noise;
-    }
+    // Noise, on every voice: with a share of 0 it adds a zero (x is unchanged
+    // but for the sign of a zero, which no output sample keeps).
+    v.seed = v.seed * 1664525u + 1013904223u;
+    x += ((float)(i32)v.seed * (1.0f / 2147483648.0f) - x) * v.noise;
     float y = x;
     if (v.mode != 3) {
       // Chamberlin state-variable filter (low += f band; band += f (x - low - q band)),
@@ -403,9 +450,7 @@ SynthReport synth_render(short* out, int frames, float* scratch) {
   float* dR = dL + kDelayAlloc;
   for (int i = 0; i < 2 * kDelayAlloc; ++i)
     dL[i] = 0.0f;
-  Voice pool[kVoices];
-  for (Voice& v : pool)
-    v.active = 0;
+  Voice pool[kVoices] = {};
   SynthReport rep{0.0f, 0, 0};
   int pos = 0;
   float lpL = 0.0f, lpR = 0.0f, duck = 0.0f, duckCoef = halflife_coef(kDuckRelease);
@@ -441,7 +486,7 @@ SynthReport synth_render(short* out, int frames, float* scratch) {
       for (int c = 0; c < 2; ++c) { // left, right
         float y = (mix[i + c * kBlockMax] + echo[c]) * g + mix[i + (2 + c) * kBlockMax] * kMaster;
         rep.peak = rt_max(rep.peak, rt_abs(y));
-        out[2 * t + c] = (short)rt_round(rt_clamp(y, -1.0f, 1.0f) * 32767.0f);
+        out[2 * t + c] = (short)rt_round(y * 32767.0f); // |y| < 1: see synth.h
       }
     }
   }

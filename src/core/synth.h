@@ -32,8 +32,10 @@ struct SynthReport {
 // Renders `frames` stereo frames (interleaved L, R; 16-bit PCM) of the music
 // loop into `out`. frames = kAudioFrames gives the loop; more frames keep
 // playing the loop (frame kAudioFrames + k continues like frame k: the tests
-// use this to check the seam). Samples beyond full scale would be clamped,
-// but the mix never gets there (see SynthReport::peak and tests/test_synth).
+// use this to check the seam). Samples are not clamped: the mix never
+// reaches full scale (SynthReport::peak, asserted <= -0.5 dBFS by
+// tests/test_synth, which also checks the shorts against it), and a clamp
+// that never acts cost 16 packed bytes (docs/win32.md "Round seven").
 SynthReport synth_render(short* out, int frames, float* scratch /* kSynthScratchFloats */);
 
 // The loop, as intro.exe uses it: out holds kAudioFrames * 2 shorts.

@@ -87,11 +87,13 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // and the light lies outside it (trace_hit), so the ray leaves it exactly
 // once on the way; it stays in index order with the others, so the product
 // is the one the test would give.
-Vec3 transmittance(TraceContext& ctx, int light, Vec3 p, Vec3 L, float dist, int& code, u32 skip,
+// The ray is the caller's (its origin set once for all lights of a shading
+// point, its direction L per light).
+Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int& code, u32 skip,
                    u32 exits) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
-  Ray ray{p, L};
+  Vec3 L = ray.dir;
   Vec3 t = v3(1.0f);
   int crossed = 0;
   for (u32 mask = shadow_mask(s, light, L, dist, range_mask(0, s.numForeground) & ~skip); mask;
@@ -215,7 +217,9 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
       Vec3 color = s.ambient * m.color;
       float off = spawn_offset(p, spawn_scale(obj.shape, hit));
       // spawn_origin(p, N, N, off): dot(N, N) >= 0 always (N is finite).
-      Vec3 lightOrg = p + N * off;
+      Ray shadow;
+      shadow.org = p + N * off;
+      Vec3 lightOrg = shadow.org;
       // A hit from inside a closed convex solid: lightOrg is inside it too (N
       // faces the ray), so a shadow ray to a light outside the solid's bound
       // leaves it exactly once (transmittance's `exits`). A shadow ray is cast
@@ -261,7 +265,8 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
           Vec3 through = v3(1.0f);
           if (recordable || weight * max_abs(lit) >= kShadowSkip) {
             bool exits = inside && s.lightC[li][id] > 0;
-            through = transmittance(ctx, li, lightOrg, L, dist, code, leavesToLight ? self : 0,
+            shadow.dir = L;
+            through = transmittance(ctx, li, shadow, dist, code, leavesToLight ? self : 0,
                                     exits ? self : 0);
           }
           bits = (u32)code;

@@ -129,24 +129,30 @@ Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int
 // Where D's exponent -tan^2(a) / m^2 is below -kSpecExp the term is not
 // computed: 0 (trace.h). tan^2(a) = (h.h - (N.h)^2) / (N.h)^2 with h = L + V
 // unnormalised, so the test needs no square root and no division.
-float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
-  Vec3 h = L + V;
+//
+// V is -I, I the incident ray's direction: L + V = L - I and N.V = -(N.I)
+// bit for bit (negation is exact and round-to-nearest symmetric; a zero's
+// sign, which the two forms may give differently, is lost in the rt_max
+// with a positive floor), so the caller keeps no negated copy.
+float cook_torrance(const Material& m, Vec3 N, Vec3 I, Vec3 L) {
+  Vec3 h = L - I;
   float nh = dot(N, h), m2 = m.roughness * m.roughness;
   if (!(nh > 0) || dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh)) return 0.0f;
   Vec3 H = normalize(h, N);
   float NdotH = rt_clamp(dot(N, H), 0.0f, 1.0f);
-  float NdotV = rt_max(dot(N, V), kCosEps);
+  float NdotV = rt_max(-dot(N, I), kCosEps);
   float NdotL = rt_max(dot(N, L), 0.0f);
   // V.H = |V + L| / 2 >= (N.V + N.L) / 2 (the length of V + L is at least its
   // component along N): an identity, so this floor only undoes rounding. It
   // keeps G's ratios <= 2 and the returned F D G / (N.V), times N.L, below
   // 4 F D for every V and L (trace.h, above kCosEps).
-  float VdotH = rt_max(dot(V, H), 0.5f * (NdotV + NdotL));
+  float VdotH = rt_max(-dot(I, H), 0.5f * (NdotV + NdotL));
   float x = 1.0f - VdotH, x2 = x * x;
   float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);
+  float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
+  // D last: fewer values live across rt_exp's call.
   float c2 = NdotH * NdotH;
   float D = c2 > kCos2Min ? rt_exp((c2 - 1.0f) / (c2 * m2)) / (kPi * m2 * c2 * c2) : 0.0f;
-  float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
   return F * D * G / NdotV;
 }
 
@@ -212,7 +218,7 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
       const Material& m = obj.mat;
       hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;
-      Vec3 N = hit.normal, V = -ray.dir;
+      Vec3 N = hit.normal;
       Vec3 p = ray.org + ray.dir * hit.t;
       Vec3 color = s.ambient * m.color;
       float off = spawn_offset(p, spawn_scale(obj.shape, hit));
@@ -250,13 +256,14 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
           if (s.model == kPhong) {
             // (V.R)^h <= exp(-h (1 - V.R)) (ln x <= x - 1): below exp(-kSpecExp)
             // the power is not computed (trace.h).
-            float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
+            // V.R = -(I.R), bit for bit but a zero's sign (cook_torrance).
+            float VdotR = rt_max(-dot(ray.dir, N * (2.0f * NdotL) - L), 0.0f);
             spec = m.shininess * (1.0f - VdotR) > kSpecExp
                        ? 0.0f
                        : m.specular * rt_pow(VdotR, m.shininess);
             lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
           } else {
-            spec = m.specular * cook_torrance(m, N, V, L) * NdotL;
+            spec = m.specular * cook_torrance(m, N, ray.dir, L) * NdotL;
             lit = m.color * (m.diffuse * NdotL + spec) * light.color;
           }
           // A ray the records leave out whose term can move the pixel by less
@@ -291,7 +298,7 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
         if (m.transmit > 0) {
           // Snell: eta = n1/n2; entering (front) goes air -> solid.
           eta = hit.front ? 1.0f / m.ior : m.ior;
-          cosI = dot(N, V); // >= 0: N faces the ray
+          cosI = dot(N, -ray.dir); // >= 0: N faces the ray
           sin2T = eta * eta * (1.0f - cosI * cosI);
           tir = sin2T > 1.0f;
         }

@@ -82,22 +82,22 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // each foreground object on the way multiplies it by its transmit * colour
 // (a tinted shadow), an opaque one blocks it. `code` gets the shadow code of
 // PathRecord. Background objects cast no shadows (the contract).
-// Objects in `skip` are not tested, as in nearest(). Objects in `exits` are
+// Only the objects in `range` are tested: the foreground less the object
+// the ray leaves for good (the caller's, as nearest()'s skip). Objects in `exits` are
 // crossed without a test: the ray starts inside that closed convex solid
 // and the light lies outside it (trace_hit), so the ray leaves it exactly
 // once on the way; it stays in index order with the others, so the product
 // is the one the test would give.
 // The ray is the caller's (its origin set once for all lights of a shading
 // point, its direction L per light).
-Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int& code, u32 skip,
+Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int& code, u32 range,
                    u32 exits) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
   Vec3 L = ray.dir;
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = shadow_mask(s, light, L, dist, range_mask(0, s.numForeground) & ~skip); mask;
-       mask &= mask - 1) {
+  for (u32 mask = shadow_mask(s, light, L, dist, range); mask; mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;
     hit.t = dist;
@@ -202,8 +202,10 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
   float rootWeight = weight;
   Ray ray = first;
   Vec3 sum = v3(0.0f);
+  // What nearest() and transmittance() test, less the skipped objects.
+  u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   for (;;) {
-    if (id == kFindHit) id = nearest(s, ray, hit, skip);
+    if (id == kFindHit) id = nearest_among(s, ray, bound_mask(s, ray, all & ~skip), hit);
     u32* node = nullptr;
     PathRecord* rec = ctx.record;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
@@ -238,6 +240,7 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
       bool flat = obj.shape.kind == kPlane || obj.shape.kind == kTriangle;
       bool leavesToLight = flat || hit.front;
       bool inside = !hit.front && closed_convex(obj.shape);
+      u32 shadowRange = leavesToLight ? foreground & ~self : foreground;
       for (int li = 0; li < s.numLights; ++li) {
         const Light& light = s.lights[li];
         Vec3 toLight = light.pos - lightOrg;
@@ -273,8 +276,7 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
           if (recordable || weight * max_abs(lit) >= kShadowSkip) {
             bool exits = inside && s.lightC[li][id] > 0;
             shadow.dir = L;
-            through = transmittance(ctx, li, shadow, dist, code, leavesToLight ? self : 0,
-                                    exits ? self : 0);
+            through = transmittance(ctx, li, shadow, dist, code, shadowRange, exits ? self : 0);
           }
           bits = (u32)code;
           if (code != 3) {

@@ -1,4 +1,5 @@
-// trace.cpp - recursive Whitted ray tracing with Phong or Cook-Torrance shading.
+// trace.cpp - Whitted ray tracing (the ray tree traced without recursion) with Phong or
+// Cook-Torrance shading.
 #include "trace.h"
 
 #include "packet/packet.h"
@@ -191,8 +192,9 @@ constexpr int kFindHit = -2;
 // reflected child before its sibling, and the two slots of the children's
 // depth are free when they are filled. The slot is bounded by the depth
 // itself, at most kMaxTraceDepth, so `pending` cannot overflow whatever the
-// scene (tests/test_shading.cpp, Shading.RayTree*). One function for trace()
-// and trace_hit(), so that intro.exe holds one copy of nearest().
+// scene (tests/test_raytree.cpp). One function for trace() and trace_hit(),
+// so that intro.exe holds one copy of the nearest-hit search (a second,
+// inlined into trace(), cost 430 packed bytes).
 static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, int depth,
                        float weight, u32 skip) {
   const Scene& s = *ctx.scene;

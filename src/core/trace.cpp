@@ -243,6 +243,41 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
       bool leavesToLight = flat || hit.front;
       bool inside = !hit.front && closed_convex(obj.shape);
       u32 shadowRange = leavesToLight ? foreground & ~self : foreground;
+      // The secondary rays are spawned before the lights are shaded (they wait
+      // in their slots), so that p, off and the Snell terms need not live across
+      // the light loop's calls.
+      if (depth < maxDepth) {
+        // The reflected ray (k = 0), then the refracted one (k = 1): one loop,
+        // so that the spawn has one copy in the code (intro.exe: 512 bytes
+        // less; docs/tracer-speed.md). Under total internal reflection (sin2T >
+        // 1) the refracted ray is the mirror ray: one ray carries both weights
+        // (reflect + transmit) instead of the same ray traced twice
+        // (docs/tracer-speed.md, round five).
+        float eta = 1, cosI = 1, sin2T = 0;
+        bool tir = false;
+        if (m.transmit > 0) {
+          // Snell: eta = n1/n2; entering (front) goes air -> solid.
+          eta = hit.front ? 1.0f / m.ior : m.ior;
+          cosI = dot(N, -ray.dir); // >= 0: N faces the ray
+          sin2T = eta * eta * (1.0f - cosI * cosI);
+          tir = sin2T > 1.0f;
+        }
+        for (int k = 0; k < 2 - tir; ++k) {
+          float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
+          if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
+          Vec3 D;
+          if (k)
+            D = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
+          else
+            D = reflect(ray.dir, N); // the mirror, or total internal reflection
+          float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
+          ++ctx.stats.secondary;
+          int slot = 2 * depth + 3 - k; // 2 (depth + 1) + 1 for the reflected ray
+          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f,
+                                  leaves_for_good_dot(obj.shape, hit, d) ? self : 0};
+          waiting |= 1u << slot;
+        }
+      }
       for (int li = 0; li < s.numLights; ++li) {
         const Light& light = s.lights[li];
         Vec3 toLight = light.pos - lightOrg;
@@ -289,39 +324,6 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
         if (node) *node |= bits << (5 + 3 * li);
       }
       sum += color * weight;
-
-      if (depth < maxDepth) {
-        // The reflected ray (k = 0), then the refracted one (k = 1): one loop,
-        // so that the spawn has one copy in the code (intro.exe: 512 bytes
-        // less; docs/tracer-speed.md). Under total internal reflection (sin2T >
-        // 1) the refracted ray is the mirror ray: one ray carries both weights
-        // (reflect + transmit) instead of the same ray traced twice
-        // (docs/tracer-speed.md, round five).
-        float eta = 1, cosI = 1, sin2T = 0;
-        bool tir = false;
-        if (m.transmit > 0) {
-          // Snell: eta = n1/n2; entering (front) goes air -> solid.
-          eta = hit.front ? 1.0f / m.ior : m.ior;
-          cosI = dot(N, -ray.dir); // >= 0: N faces the ray
-          sin2T = eta * eta * (1.0f - cosI * cosI);
-          tir = sin2T > 1.0f;
-        }
-        for (int k = 0; k < 2 - tir; ++k) {
-          float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
-          if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
-          Vec3 D;
-          if (k)
-            D = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
-          else
-            D = reflect(ray.dir, N); // the mirror, or total internal reflection
-          float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
-          ++ctx.stats.secondary;
-          int slot = 2 * depth + 3 - k; // 2 (depth + 1) + 1 for the reflected ray
-          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f,
-                                  leaves_for_good_dot(obj.shape, hit, d) ? self : 0};
-          waiting |= 1u << slot;
-        }
-      }
     }
     if (!waiting) break;
     int slot = 31 - __builtin_clz(waiting);

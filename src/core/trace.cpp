@@ -202,11 +202,14 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
   Pending pending[2 * kMaxTraceDepth + 2];
   u32 waiting = 0;
   float rootWeight = weight;
-  Ray ray = first;
+  // The ray of the node shaded: the root's, then a waiting ray's own slot
+  // (read in place: its children go to the slots of the next depth).
+  const Ray* cur = &first;
   Vec3 sum = v3(0.0f);
   // What nearest() and transmittance() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   for (;;) {
+    const Ray& ray = *cur;
     if (id == kFindHit) id = nearest_among(s, ray, bound_mask(s, ray, all & ~skip), hit);
     u32* node = nullptr;
     PathRecord* rec = ctx.record;
@@ -329,7 +332,7 @@ static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, in
     int slot = 31 - __builtin_clz(waiting);
     waiting ^= 1u << slot;
     const Pending& next = pending[slot];
-    ray = next.ray;
+    cur = &next.ray;
     weight = next.weight;
     depth = slot >> 1;
     skip = next.skip;

@@ -1,4 +1,5 @@
-// trace.cpp - recursive Whitted ray tracing with Phong or Cook-Torrance shading.
+// trace.cpp - Whitted ray tracing (the ray tree traced without recursion) with Phong or
+// Cook-Torrance shading.
 #include "trace.h"
 
 #include "packet/packet.h"
@@ -91,20 +92,22 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // each foreground object on the way multiplies it by its transmit * colour
 // (a tinted shadow), an opaque one blocks it. `code` gets the shadow code of
 // PathRecord. Background objects cast no shadows (the contract).
-// Objects in `skip` are not tested, as in nearest(). Objects in `exits` are
+// Only the objects in `range` are tested: the foreground less the object
+// the ray leaves for good (the caller's, as nearest()'s skip). Objects in `exits` are
 // crossed without a test: the ray starts inside that closed convex solid
 // and the light lies outside it (trace_hit), so the ray leaves it exactly
 // once on the way; it stays in index order with the others, so the product
 // is the one the test would give.
-Vec3 transmittance(TraceContext& ctx, int light, Vec3 p, Vec3 L, float dist, int& code, u32 skip,
+// The ray is the caller's (its origin set once for all lights of a shading
+// point, its direction L per light).
+Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int& code, u32 range,
                    u32 exits) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
-  Ray ray{p, L};
+  Vec3 L = ray.dir;
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = shadow_mask(s, light, L, dist, range_mask(0, s.numForeground) & ~skip); mask;
-       mask &= mask - 1) {
+  for (u32 mask = shadow_mask(s, light, L, dist, range); mask; mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;
     hit.t = dist;
@@ -136,24 +139,30 @@ Vec3 transmittance(TraceContext& ctx, int light, Vec3 p, Vec3 L, float dist, int
 // Where D's exponent -tan^2(a) / m^2 is below -kSpecExp the term is not
 // computed: 0 (trace.h). tan^2(a) = (h.h - (N.h)^2) / (N.h)^2 with h = L + V
 // unnormalised, so the test needs no square root and no division.
-float cook_torrance(const Material& m, Vec3 N, Vec3 V, Vec3 L) {
-  Vec3 h = L + V;
+//
+// V is -I, I the incident ray's direction: L + V = L - I and N.V = -(N.I)
+// bit for bit (negation is exact and round-to-nearest symmetric; a zero's
+// sign, which the two forms may give differently, is lost in the rt_max
+// with a positive floor), so the caller keeps no negated copy.
+float cook_torrance(const Material& m, Vec3 N, Vec3 I, Vec3 L) {
+  Vec3 h = L - I;
   float nh = dot(N, h), m2 = m.roughness * m.roughness;
   if (!(nh > 0) || dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh)) return 0.0f;
   Vec3 H = normalize(h, N);
   float NdotH = rt_clamp(dot(N, H), 0.0f, 1.0f);
-  float NdotV = rt_max(dot(N, V), kCosEps);
+  float NdotV = rt_max(-dot(N, I), kCosEps);
   float NdotL = rt_max(dot(N, L), 0.0f);
   // V.H = |V + L| / 2 >= (N.V + N.L) / 2 (the length of V + L is at least its
   // component along N): an identity, so this floor only undoes rounding. It
   // keeps G's ratios <= 2 and the returned F D G / (N.V), times N.L, below
   // 4 F D for every V and L (trace.h, above kCosEps).
-  float VdotH = rt_max(dot(V, H), 0.5f * (NdotV + NdotL));
+  float VdotH = rt_max(-dot(I, H), 0.5f * (NdotV + NdotL));
   float x = 1.0f - VdotH, x2 = x * x;
   float F = m.f0 + x2 * x2 * x * (1.0f - m.f0);
+  float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
+  // D last: fewer values live across rt_exp's call.
   float c2 = NdotH * NdotH;
   float D = c2 > kCos2Min ? rt_exp((c2 - 1.0f) / (c2 * m2)) / (kPi * m2 * c2 * c2) : 0.0f;
-  float G = rt_min(1.0f, 2.0f * NdotH * rt_min(NdotV, NdotL) / VdotH);
   return F * D * G / NdotV;
 }
 
@@ -161,120 +170,194 @@ Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
 } // namespace
 
+namespace {
+
+// A secondary ray waiting for its turn (trace_hit): where it starts, its
+// weight and the objects it skips; its depth is its slot's (below).
+struct Pending {
+  Ray ray;
+  float weight;
+  u32 skip;
+};
+
+// trace_tree's id of a ray whose nearest hit is still to be found.
+constexpr int kFindHit = -2;
+
+} // namespace
+
+// The ray tree without recursion (docs/tracer-speed.md, round seven). A
+// node's colour is its own shading plus f times each child's colour, with
+// no absorption: the pixel is linear in the nodes, the sum over the tree of
+// each node's shading times its weight (the product of the f's on its path:
+// the very products the cuts and records use). The nodes are visited depth
+// first, the reflected child before the refracted one, as the recursion
+// did, so PathRecord's nodes come out in the same order with the same
+// values; the colour differs from the recursion's only by the order of the
+// float sums. A spawned ray waits in slot 2 depth + 1 for a reflected and 2
+// depth for a refracted ray of that depth, and the highest slot goes first
+// (__builtin_clz of the `waiting` bits): a node's children are deeper than
+// every ray waiting while it is shaded (the invariant: those are each at
+// most its depth), so highest-first is the stack's last-in first-out, the
+// reflected child before its sibling, and the two slots of the children's
+// depth are free when they are filled. The slot is bounded by the depth
+// itself, at most kMaxTraceDepth, so `pending` cannot overflow whatever the
+// scene (tests/test_raytree.cpp). One function for trace() and trace_hit(),
+// so that intro.exe holds one copy of the nearest-hit search (a second,
+// inlined into trace(), cost 430 packed bytes).
+static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, int depth,
+                       float weight, u32 skip) {
+  const Scene& s = *ctx.scene;
+  int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
+  Pending pending[2 * kMaxTraceDepth + 2];
+  u32 waiting = 0;
+  float rootWeight = weight;
+  // The ray of the node shaded: the root's, then a waiting ray's own slot
+  // (read in place: its children go to the slots of the next depth).
+  const Ray* cur = &first;
+  Vec3 sum = v3(0.0f);
+  // What nearest() and transmittance() test, less the skipped objects.
+  u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
+  for (;;) {
+    const Ray& ray = *cur;
+    if (id == kFindHit) id = nearest_among(s, ray, bound_mask(s, ray, all & ~skip), hit);
+    u32* node = nullptr;
+    PathRecord* rec = ctx.record;
+    bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
+    if (rec && recordable && rec->count < kMaxPathNodes) {
+      node = &rec->node[rec->count++];
+      *node = (u32)(id + 1);
+    }
+    if (id < 0) {
+      sum += s.background * weight;
+    } else {
+      const Object& obj = s.objects[id];
+      const Material& m = obj.mat;
+      hit_normal(obj.shape, ray, hit);
+      u32 self = 1u << id;
+      Vec3 N = hit.normal;
+      Vec3 p = ray.org + ray.dir * hit.t;
+      Vec3 color = s.ambient * m.color;
+      float off = spawn_offset(p, spawn_scale(obj.shape, hit));
+      // spawn_origin(p, N, N, off): dot(N, N) >= 0 always (N is finite).
+      Ray shadow;
+      shadow.org = p + N * off;
+      Vec3 lightOrg = shadow.org;
+      // A hit from inside a closed convex solid: lightOrg is inside it too (N
+      // faces the ray), so a shadow ray to a light outside the solid's bound
+      // leaves it exactly once (transmittance's `exits`). A shadow ray is cast
+      // only where N.L > 0, and leaves_for_good(obj.shape, hit, L) tests the
+      // same product (dot(L, N) = dot(N, L) bit for bit): it leaves for good
+      // when the shape is flat or the hit is on the front. So an inside hit's
+      // shadow ray never leaves for good, and it exits when the light is
+      // outside the bound: |light - centre|^2 > R^2, i.e. Scene::lightC > 0
+      // (a float difference is > 0 exactly when a > b).
+      bool flat = obj.shape.kind == kPlane || obj.shape.kind == kTriangle;
+      bool leavesToLight = flat || hit.front;
+      bool inside = !hit.front && closed_convex(obj.shape);
+      u32 shadowRange = leavesToLight ? foreground & ~self : foreground;
+      // The secondary rays are spawned before the lights are shaded (they wait
+      // in their slots), so that p, off and the Snell terms need not live across
+      // the light loop's calls.
+      if (depth < maxDepth) {
+        // The reflected ray (k = 0), then the refracted one (k = 1): one loop,
+        // so that the spawn has one copy in the code (intro.exe: 512 bytes
+        // less; docs/tracer-speed.md). Under total internal reflection (sin2T >
+        // 1) the refracted ray is the mirror ray: one ray carries both weights
+        // (reflect + transmit) instead of the same ray traced twice
+        // (docs/tracer-speed.md, round five).
+        float eta = 1, cosI = 1, sin2T = 0;
+        bool tir = false;
+        if (m.transmit > 0) {
+          // Snell: eta = n1/n2; entering (front) goes air -> solid.
+          eta = hit.front ? 1.0f / m.ior : m.ior;
+          cosI = dot(N, -ray.dir); // >= 0: N faces the ray
+          sin2T = eta * eta * (1.0f - cosI * cosI);
+          tir = sin2T > 1.0f;
+        }
+        for (int k = 0; k < 2 - tir; ++k) {
+          float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
+          if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
+          Vec3 D;
+          if (k)
+            D = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
+          else
+            D = reflect(ray.dir, N); // the mirror, or total internal reflection
+          float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
+          ++ctx.stats.secondary;
+          int slot = 2 * depth + 3 - k; // 2 (depth + 1) + 1 for the reflected ray
+          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f,
+                                  leaves_for_good_dot(obj.shape, hit, d) ? self : 0};
+          waiting |= 1u << slot;
+        }
+      }
+      for (int li = 0; li < s.numLights; ++li) {
+        const Light& light = s.lights[li];
+        Vec3 toLight = light.pos - lightOrg;
+        float dist = length(toLight);
+        Vec3 L = toLight * (1.0f / rt_max(dist, 1e-20f));
+        float NdotL = dot(N, L);
+        // A surface facing away from the light records code 0 like a lit one:
+        // the diffuse term fades to 0 at the terminator, so there is no edge
+        // there to split on (a cast shadow, code 3, is one).
+        int code = 0;
+        u32 bits = 0;
+        if (NdotL > 0) {
+          // The light's term unshadowed; a shadow ray scales it by its transmittance.
+          float spec;
+          Vec3 lit;
+          if (s.model == kPhong) {
+            // (V.R)^h <= exp(-h (1 - V.R)) (ln x <= x - 1): below exp(-kSpecExp)
+            // the power is not computed (trace.h).
+            // V.R = -(I.R), bit for bit but a zero's sign (cook_torrance).
+            float VdotR = rt_max(-dot(ray.dir, N * (2.0f * NdotL) - L), 0.0f);
+            spec = m.shininess * (1.0f - VdotR) > kSpecExp
+                       ? 0.0f
+                       : m.specular * rt_pow(VdotR, m.shininess);
+            lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
+          } else {
+            spec = m.specular * cook_torrance(m, N, ray.dir, L) * NdotL;
+            lit = m.color * (m.diffuse * NdotL + spec) * light.color;
+          }
+          // A ray the records leave out whose term can move the pixel by less
+          // than kShadowSkip casts no shadow ray: it counts as lit (with or
+          // without a record, the colour is the same).
+          Vec3 through = v3(1.0f);
+          if (recordable || weight * max_abs(lit) >= kShadowSkip) {
+            bool exits = inside && s.lightC[li][id] > 0;
+            shadow.dir = L;
+            through = transmittance(ctx, li, shadow, dist, code, shadowRange, exits ? self : 0);
+          }
+          bits = (u32)code;
+          if (code != 3) {
+            color += lit * through;
+            if (node && spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
+          }
+        }
+        if (node) *node |= bits << (5 + 3 * li);
+      }
+      sum += color * weight;
+    }
+    if (!waiting) break;
+    int slot = 31 - __builtin_clz(waiting);
+    waiting ^= 1u << slot;
+    const Pending& next = pending[slot];
+    cur = &next.ray;
+    weight = next.weight;
+    depth = slot >> 1;
+    skip = next.skip;
+    id = kFindHit;
+  }
+  // Weights are relative to the root's (1 for a primary ray: no rounding).
+  return sum * (1.0f / rootWeight);
+}
+
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
-  int id = nearest(*ctx.scene, ray, hit, skip);
-  return id < 0 ? trace_miss(ctx, depth, weight) : trace_hit(ctx, ray, id, hit, depth, weight);
+  return trace_tree(ctx, ray, kFindHit, hit, depth, weight, skip);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  const Scene& s = *ctx.scene;
-  u32* node = nullptr;
-  PathRecord* rec = ctx.record;
-  bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
-  if (rec && recordable && rec->count < kMaxPathNodes) {
-    node = &rec->node[rec->count++];
-    *node = (u32)(id + 1);
-  }
-  if (id < 0) return s.background;
-
-  const Object& obj = s.objects[id];
-  const Material& m = obj.mat;
-  hit_normal(obj.shape, ray, hit);
-  u32 self = 1u << id;
-  Vec3 N = hit.normal, V = -ray.dir;
-  Vec3 p = ray.org + ray.dir * hit.t;
-  Vec3 color = s.ambient * m.color;
-  float off = spawn_offset(p, spawn_scale(obj.shape, hit));
-  // spawn_origin(p, N, N, off): dot(N, N) >= 0 always (N is finite).
-  Vec3 lightOrg = p + N * off;
-  // A hit from inside a closed convex solid: lightOrg is inside it too (N
-  // faces the ray), so a shadow ray to a light outside the solid's bound
-  // leaves it exactly once (transmittance's `exits`). A shadow ray is cast
-  // only where N.L > 0, and leaves_for_good(obj.shape, hit, L) tests the
-  // same product (dot(L, N) = dot(N, L) bit for bit): it leaves for good
-  // when the shape is flat or the hit is on the front. So an inside hit's
-  // shadow ray never leaves for good, and it exits when the light is
-  // outside the bound: |light - centre|^2 > R^2, i.e. Scene::lightC > 0
-  // (a float difference is > 0 exactly when a > b).
-  bool flat = obj.shape.kind == kPlane || obj.shape.kind == kTriangle;
-  bool leavesToLight = flat || hit.front;
-  bool inside = !hit.front && closed_convex(obj.shape);
-  for (int li = 0; li < s.numLights; ++li) {
-    const Light& light = s.lights[li];
-    Vec3 toLight = light.pos - lightOrg;
-    float dist = length(toLight);
-    Vec3 L = toLight * (1.0f / rt_max(dist, 1e-20f));
-    float NdotL = dot(N, L);
-    // A surface facing away from the light records code 0 like a lit one:
-    // the diffuse term fades to 0 at the terminator, so there is no edge
-    // there to split on (a cast shadow, code 3, is one).
-    int code = 0;
-    u32 bits = 0;
-    if (NdotL > 0) {
-      // The light's term unshadowed; a shadow ray scales it by its transmittance.
-      float spec;
-      Vec3 lit;
-      if (s.model == kPhong) {
-        // (V.R)^h <= exp(-h (1 - V.R)) (ln x <= x - 1): below exp(-kSpecExp)
-        // the power is not computed (trace.h).
-        float VdotR = rt_max(dot(V, N * (2.0f * NdotL) - L), 0.0f);
-        spec = m.shininess * (1.0f - VdotR) > kSpecExp ? 0.0f
-                                                       : m.specular * rt_pow(VdotR, m.shininess);
-        lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
-      } else {
-        spec = m.specular * cook_torrance(m, N, V, L) * NdotL;
-        lit = m.color * (m.diffuse * NdotL + spec) * light.color;
-      }
-      // A ray the records leave out whose term can move the pixel by less
-      // than kShadowSkip casts no shadow ray: it counts as lit (with or
-      // without a record, the colour is the same).
-      Vec3 through = v3(1.0f);
-      if (recordable || weight * max_abs(lit) >= kShadowSkip) {
-        bool exits = inside && s.lightC[li][id] > 0;
-        through = transmittance(ctx, li, lightOrg, L, dist, code, leavesToLight ? self : 0,
-                                exits ? self : 0);
-      }
-      bits = (u32)code;
-      if (code != 3) {
-        color += lit * through;
-        if (node && spec * max_abs(light.color) > kHighlightEdge) bits |= 4;
-      }
-    }
-    if (node) *node |= bits << (5 + 3 * li);
-  }
-
-  if (depth >= s.maxDepth) return color;
-  // The reflected ray (k = 0), then the refracted one (k = 1): one loop, so
-  // that the spawn and the trace have one copy in the code (intro.exe: 512
-  // bytes less of trace_hit; +0.8 % instructions, docs/tracer-speed.md).
-  // Under total internal reflection (sin2T > 1) the refracted ray is the
-  // mirror ray: one ray carries both weights (reflect + transmit) instead
-  // of the same ray traced twice (docs/tracer-speed.md, round five).
-  float eta = 1, cosI = 1, sin2T = 0;
-  bool tir = false;
-  if (m.transmit > 0) {
-    // Snell: eta = n1/n2; entering (front) goes air -> solid.
-    eta = hit.front ? 1.0f / m.ior : m.ior;
-    cosI = dot(N, V); // >= 0: N faces the ray
-    sin2T = eta * eta * (1.0f - cosI * cosI);
-    tir = sin2T > 1.0f;
-  }
-  for (int k = 0; k < 2 - tir; ++k) {
-    float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
-    if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
-    Vec3 D;
-    if (k)
-      D = normalize(ray.dir * eta + N * (eta * cosI - rt_sqrt(1.0f - sin2T)), ray.dir);
-    else
-      D = reflect(ray.dir, N); // the mirror, or total internal reflection
-    float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
-    ++ctx.stats.secondary;
-    color += trace(ctx, Ray{spawn_origin_dot(p, N, d, off), D}, depth + 1, weight * f,
-                   leaves_for_good_dot(obj.shape, hit, d) ? self : 0) *
-             f;
-  }
-  return color;
+  return trace_tree(ctx, ray, id, hit, depth, weight, 0);
 }
 
 int first_hit_object(const Scene& scene, const Ray& ray) {

@@ -1,4 +1,4 @@
-// trace.h - the recursive ray tracer, shading, camera and the full-trace renderer.
+// trace.h - the Whitted ray tracer, shading, camera and the full-trace renderer.
 #pragma once
 #include "abi.h"
 #include "packet/primary.h"
@@ -53,13 +53,21 @@ struct TraceContext {
 // tracer (full and adaptive renderers trace alike), not adaptive-renderer
 // errors (docs/speed-vs-error.md). Under total internal reflection the
 // refracted ray would be the mirror ray: one ray is cast with weight reflect
-// + transmit (docs/tracer-speed.md, round five).
+// + transmit (docs/tracer-speed.md, round five). The ray tree is traced
+// without recursion (trace_hit, trace.cpp): the result is the sum of each
+// node's shading times its weight relative to `weight`, which equals the
+// recursion's colour up to the order of the float sums. depth >= 1; no ray
+// deeper than the scene's maxDepth, nor than kMaxTraceDepth, is cast.
 // The result is finite and non-negative in every channel. Objects whose bit
 // (1 << index) is set in `skip` are not tested: a secondary ray skips the
 // object it leaves when leaves_for_good() (shapes.h) says it cannot meet it again.
 RT64K_HOT_ABI Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight = 1.0f,
                          u32 skip = 0);
 constexpr float kMinRayWeight = 1.0f / 64;
+// The deepest ray ever cast (a primary ray is depth 1): a Scene::maxDepth
+// above it is taken as it. It sizes trace_hit's slots of waiting rays (two a
+// depth), so that they need no bound check (docs/tracer-speed.md, round seven).
+constexpr int kMaxTraceDepth = 8;
 constexpr float kShadowSkip = 2.0f / 255;
 // A specular term is taken as 0 without computing it where it is below
 // e^-kSpecExp = 1.1e-7 of its peak: Phong's (V.R)^h when h (1 - V.R) >

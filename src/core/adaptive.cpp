@@ -12,7 +12,8 @@
 //   * a split block's two inner lines (x = xm and y = ym) are fresh arrays
 //     from the band's scratch, shared by its four children.
 // A corner or midpoint that is an end of several arrays is copied into each
-// once it is traced. Each slot has a state: unknown, pending (in the current
+// once it is traced. Each slot has a state (CornerSample::state, in the
+// sample, so that a side is one pointer): unknown, pending (in the current
 // batch), known (traced) or estimated (adaptive_estimate; kept, also where
 // a block traced per pixel needs that pixel).
 #include "adaptive.h"
@@ -99,28 +100,15 @@ constexpr int kSmallContrast[2] = {32, 16};
 // Base blocks up to 8 are not affected.
 constexpr int kMaxInterpolated = 8;
 
-struct Edge {
-  Sample* s;
-  u8* st;
-};
-inline Edge operator+(Edge e, int k) { return Edge{e.s + k, e.st + k}; }
+// A side: its samples, each with its state (CornerSample::state).
+typedef Sample* Edge;
 
-typedef u64 u64_unaligned __attribute__((aligned(1), may_alias));
-
-// Sets `count` slot states to kUnknown (0), eight bytes a store (the loops
-// are not vectorised: -fno-tree-vectorize, -fno-tree-loop-distribute-patterns).
-RT64K_HOT_ABI void clear_states(u8* st, int count) {
-  int i = 0;
-  for (; i + 8 <= count; i += 8)
-    *(u64_unaligned*)(st + i) = 0;
-  for (; i < count; ++i)
-    st[i] = kUnknown;
+RT64K_HOT_ABI void clear_states(Edge e, int count) {
+  for (int i = 0; i < count; ++i)
+    e[i].state = kUnknown;
 }
 
-inline void copy_slot(Edge to, int i, Edge from, int j) {
-  to.s[i] = from.s[j];
-  to.st[i] = from.st[j];
-}
+inline void copy_slot(Edge to, int i, Edge from, int j) { to[i] = from[j]; }
 
 // A block: corners at x0, x1 (x1 >= x0) and y0, y1; owns [x0, xEnd) x [y0, yEnd).
 struct Node {
@@ -143,7 +131,6 @@ struct Batch {
   int n;
   int x[kBatch], y[kBatch];
   Sample* out[kBatch];
-  u8* state[kBatch];  // the slot's state, or null (a pixel inside a block)
   u32* pixel[kBatch]; // the framebuffer pixel to write too, or null
   Sample spare[kBatch];
 };
@@ -179,7 +166,7 @@ RT64K_HOT_ABI void flush(Context& c) {
       u32 packed = pack_color(color[k]);
       b.out[j]->packed = packed;
       b.out[j]->path = paths[k];
-      if (b.state[j]) *b.state[j] = kKnown;
+      b.out[j]->state = kKnown; // (a spare's is not read)
       if (b.pixel[j]) *b.pixel[j] = packed;
       if (f.kinds) {
         u8& kind = f.kinds[b.y[j] * f.width + b.x[j]];
@@ -193,13 +180,12 @@ RT64K_HOT_ABI void flush(Context& c) {
 // Asks for the sample at (x, y) into slot e[0]: traced unless already
 // traced, asked for or estimated.
 RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
-  if (*e.st != kUnknown) return;
-  *e.st = kPending;
+  if (e->state != kUnknown) return;
+  e->state = kPending;
   Batch& b = c.batch;
   b.x[b.n] = x;
   b.y[b.n] = y;
-  b.out[b.n] = e.s;
-  b.state[b.n] = e.st;
+  b.out[b.n] = e;
   b.pixel[b.n] = nullptr;
   if (++b.n == kBatch) flush(c);
 }
@@ -211,7 +197,6 @@ RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
   b.x[b.n] = x;
   b.y[b.n] = y;
   b.out[b.n] = &b.spare[b.n];
-  b.state[b.n] = nullptr;
   b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
   if (++b.n == kBatch) flush(c);
 }
@@ -237,9 +222,9 @@ namespace {
 // estimated (adaptive_estimate; not for a block larger than
 // kMaxInterpolated: c.large) or asked for.
 RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
-  if (side.st[mid] != kUnknown) return;
-  if (!c.large && adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
-    side.st[mid] = kEstimated;
+  if (side[mid].state != kUnknown) return;
+  if (!c.large && adaptive_estimate(side[0], side[len], side[mid])) {
+    side[mid].state = kEstimated;
     return;
   }
   request(c, x, y, side + mid);
@@ -248,7 +233,7 @@ RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid
 RT64K_HOT_ABI Edge allocate(Context& c, int count) {
   Edge e = c.scratch + c.used;
   c.used += count;
-  clear_states(e.st, count);
+  clear_states(e, count);
   return e;
 }
 
@@ -274,7 +259,7 @@ RT64K_HOT_ABI Edge side_slot(const Node& n, int x, int y) {
   if (y == n.y1) return n.bottom + (x - n.x0);
   if (x == n.x0) return n.left + (y - n.y0);
   if (x == n.x1) return n.right + (y - n.y0);
-  return Edge{nullptr, nullptr};
+  return nullptr;
 }
 
 RT64K_HOT_ABI int grid_count(int size, int block) {
@@ -300,13 +285,13 @@ RT64K_HOT_ABI int band_scratch(int baseBlock) {
   return total;
 }
 
-RT64K_HOT_ABI int states_as_samples(int states) {
-  return (states + (int)sizeof(Sample) - 1) / (int)sizeof(Sample);
+RT64K_HOT_ABI int bytes_as_samples(int bytes) {
+  return (bytes + (int)sizeof(Sample) - 1) / (int)sizeof(Sample);
 }
 
 // The caller's buffer: the lines of corners (gridH x width samples), then
-// each band's scratch, then one state byte per sample of both, then the
-// bands' queue (Queue: two counters, then a done flag per band).
+// each band's scratch (each sample with its slot state), then the bands'
+// queue (Queue: two counters, then a done flag per band).
 RT64K_HOT_ABI int sample_slots(const AdaptiveFrame& f) {
   return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
 }
@@ -320,18 +305,14 @@ int queue_bytes(int bands) { return (int)sizeof(Queue) + bands; }
 
 RT64K_HOT_ABI Queue* queue(const AdaptiveFrame& f) {
   int samples = sample_slots(f);
-  return (Queue*)(f.corners + samples + states_as_samples(samples));
+  return (Queue*)(f.corners + samples);
 }
 
-RT64K_HOT_ABI Edge line_edge(const AdaptiveFrame& f, int k) {
-  u8* states = (u8*)(f.corners + sample_slots(f));
-  return Edge{f.corners + k * f.width, states + k * f.width};
-}
+RT64K_HOT_ABI Edge line_edge(const AdaptiveFrame& f, int k) { return f.corners + k * f.width; }
 
 RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
   int offset = f.gridH * f.width + band * band_scratch(f.baseBlock);
-  u8* states = (u8*)(f.corners + sample_slots(f));
-  return Edge{f.corners + offset, states + offset};
+  return f.corners + offset;
 }
 
 RT64K_HOT_ABI void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
@@ -399,11 +380,11 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {
       Edge e = side_slot(n, x, y);
-      if (!e.s) {
+      if (!e) {
         if (!written) request_pixel(c, x, y);
       } else if (written) {
-        f.fb[y * f.stride + x] = e.s->packed;
-        if (f.kinds && *e.st == kEstimated) {
+        f.fb[y * f.stride + x] = e->packed;
+        if (f.kinds && e->state == kEstimated) {
           u8& k = f.kinds[y * f.width + x];
           k = (u8)((k & ~kKindMask) | kInterpolated);
         }
@@ -423,8 +404,8 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
   for (int i = 0; i < count; ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
-    const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
-    const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
+    const Sample &c00 = n.top[0], &c10 = n.top[w];
+    const Sample &c01 = n.bottom[0], &c11 = n.bottom[w];
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
     // Small blocks whose records differ: interpolated where the corners'
     // colours are close (kSmallContrast).
@@ -530,7 +511,7 @@ RT64K_HOT_ABI int line_owner(int k, int bands) {
 RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
   Edge line = line_edge(f, k);
-  clear_states(line.st, f.width);
+  clear_states(line, f.width);
   int y = grid_coord(k, f.baseBlock, f.height);
   // A one-pixel-high image: both lines are row 0; the band reads line 0 as
   // its bottom too (run_band), so line 1 is not traced.
@@ -545,7 +526,7 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
 RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
-  clear_states(col.st + 1, h - 1);
+  clear_states(col + 1, h - 1);
   copy_slot(col, 0, top, x);
   copy_slot(col, h, bottom, x);
 }
@@ -674,7 +655,7 @@ int adaptive_corner_count(int width, int height, int baseBlock) {
   f.baseBlock = baseBlock;
   f.gridH = grid_count(height, baseBlock);
   int samples = sample_slots(f);
-  return samples + states_as_samples(samples) + states_as_samples(queue_bytes(f.gridH - 1));
+  return samples + bytes_as_samples(queue_bytes(f.gridH - 1));
 }
 
 void adaptive_begin(AdaptiveFrame& f) {

@@ -129,7 +129,7 @@ constexpr int kGroup = 16;
 constexpr int kBatch = 32;
 struct Batch {
   int n;
-  int x[kBatch], y[kBatch];
+  float x[kBatch], y[kBatch]; // pixel coordinates, as trace_primary4 takes them
   Sample* out[kBatch];
   u32* pixel[kBatch]; // the framebuffer pixel to write too, or null
   Sample spare[kBatch];
@@ -153,14 +153,9 @@ RT64K_HOT_ABI void flush(Context& c) {
   const AdaptiveFrame& f = *c.f;
   for (int i = 0; i < b.n; i += 4) {
     int count = b.n - i < 4 ? b.n - i : 4;
-    float xs[4] = {0, 0, 0, 0}, ys[4] = {0, 0, 0, 0};
     Vec3 color[4];
     PathRecord paths[4];
-    for (int k = 0; k < count; ++k) {
-      xs[k] = (float)b.x[i + k];
-      ys[k] = (float)b.y[i + k];
-    }
-    trace_primary4(*f.scene, f.cam, xs, ys, count, color, paths, c.stats);
+    trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
     for (int k = 0; k < count; ++k) {
       int j = i + k;
       u32 packed = pack_color(color[k]);
@@ -169,7 +164,7 @@ RT64K_HOT_ABI void flush(Context& c) {
       b.out[j]->state = kKnown; // (a spare's is not read)
       if (b.pixel[j]) *b.pixel[j] = packed;
       if (f.kinds) {
-        u8& kind = f.kinds[b.y[j] * f.width + b.x[j]];
+        u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
         if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
       }
     }
@@ -183,8 +178,8 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   if (e->state != kUnknown) return;
   e->state = kPending;
   Batch& b = c.batch;
-  b.x[b.n] = x;
-  b.y[b.n] = y;
+  b.x[b.n] = (float)x;
+  b.y[b.n] = (float)y;
   b.out[b.n] = e;
   b.pixel[b.n] = nullptr;
   if (++b.n == kBatch) flush(c);
@@ -194,8 +189,8 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
 // traced straight into the framebuffer.
 RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
   Batch& b = c.batch;
-  b.x[b.n] = x;
-  b.y[b.n] = y;
+  b.x[b.n] = (float)x;
+  b.y[b.n] = (float)y;
   b.out[b.n] = &b.spare[b.n];
   b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
   if (++b.n == kBatch) flush(c);

@@ -54,6 +54,12 @@ inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRec
 
 enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
 
+// Set in the state of a line's corner (a base block's top-left or
+// bottom-left corner on a line of corners) once the slots between it and
+// the next corner on that line are cleared (open_side); the corner stays
+// known (states are only compared with kUnknown and kEstimated).
+constexpr u8 kSideOpen = 4;
+
 // A side's midpoint is estimated instead of traced when the records at its
 // two ends are equal and no colour channel differs between them by more than
 // kEstimateContrast / 255: the midpoint takes their record and the rounded
@@ -108,6 +114,19 @@ RT64K_HOT_ABI void clear_states(Edge e, int count) {
     e[i].state = kUnknown;
 }
 
+// A base block that splits or is traced per pixel reads and writes the
+// slots of its top and bottom sides between their corners, slots of the
+// lines of corners (76 lines of 800 samples, 2.4 MB at 800x600), which
+// trace_line does not clear (only the corners): the first of the line's two
+// bands that needs a side's slots clears them and marks the side open
+// (kSideOpen in its left corner); the other band runs after it (adaptive.h),
+// and sides no block splits are not touched in the frame.
+RT64K_COLD RT64K_HOT_ABI void open_side(Edge side, int w) {
+  if (side[0].state & kSideOpen) return;
+  side[0].state |= kSideOpen;
+  clear_states(side + 1, w - 1);
+}
+
 inline void copy_slot(Edge to, int i, Edge from, int j) { to[i] = from[j]; }
 
 // A block: corners at x0, x1 (x1 >= x0) and y0, y1; owns [x0, xEnd) x [y0, yEnd).
@@ -141,7 +160,8 @@ struct Context {
   Batch batch;
   Edge scratch; // the band's scratch for inner lines; `used` entries taken
   int used;
-  bool large; // the block being split is larger than kMaxInterpolated
+  const Node* base; // the base block being processed
+  bool large;       // the block being split is larger than kMaxInterpolated
 };
 
 // The one place the adaptive renderer casts primary rays: traces the batch,
@@ -427,6 +447,10 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
       interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
       continue;
     }
+    if (&n == c.base) {
+      open_side(n.top, w);
+      open_side(n.bottom, w);
+    }
     if (is_small(f, w, h)) {
       n.kind = kTraced;
       trace_block(c, n, false);
@@ -506,7 +530,8 @@ RT64K_HOT_ABI int line_owner(int k, int bands) {
 RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
   Edge line = line_edge(f, k);
-  clear_states(line, f.width);
+  for (int i = 0; i < f.gridW; ++i) // the corners only (open_side: the rest)
+    line[grid_coord(i, f.baseBlock, f.width)].state = kUnknown;
   int y = grid_coord(k, f.baseBlock, f.height);
   // A one-pixel-high image: both lines are row 0; the band reads line 0 as
   // its bottom too (run_band), so line 1 is not traced.
@@ -551,6 +576,7 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
     if (right != left) start_column(columns[right], top, bottom, x1, h);
     Node n =
         make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, columns[left], columns[right]);
+    c.base = &n;
     process_group(c, &n, 1);
     left = right;
   }

@@ -12,7 +12,8 @@
 //   * a split block's two inner lines (x = xm and y = ym) are fresh arrays
 //     from the band's scratch, shared by its four children.
 // A corner or midpoint that is an end of several arrays is copied into each
-// once it is traced. Each slot has a state: unknown, pending (in the current
+// once it is traced. Each slot has a state (CornerSample::state, in the
+// sample, so that a side is one pointer): unknown, pending (in the current
 // batch), known (traced) or estimated (adaptive_estimate; kept, also where
 // a block traced per pixel needs that pixel).
 #include "adaptive.h"
@@ -52,6 +53,12 @@ inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRec
 #define RT64K_COLD __attribute__((noinline))
 
 enum SlotState : u8 { kUnknown, kPending, kKnown, kEstimated };
+
+// Set in the state of a line's corner (a base block's top-left or
+// bottom-left corner on a line of corners) once the slots between it and
+// the next corner on that line are cleared (open_side); the corner stays
+// known (states are only compared with kUnknown and kEstimated).
+constexpr u8 kSideOpen = 4;
 
 // A side's midpoint is estimated instead of traced when the records at its
 // two ends are equal and no colour channel differs between them by more than
@@ -99,16 +106,28 @@ constexpr int kSmallContrast[2] = {32, 16};
 // Base blocks up to 8 are not affected.
 constexpr int kMaxInterpolated = 8;
 
-struct Edge {
-  Sample* s;
-  u8* st;
-};
-inline Edge operator+(Edge e, int k) { return Edge{e.s + k, e.st + k}; }
+// A side: its samples, each with its state (CornerSample::state).
+typedef Sample* Edge;
 
-inline void copy_slot(Edge to, int i, Edge from, int j) {
-  to.s[i] = from.s[j];
-  to.st[i] = from.st[j];
+RT64K_HOT_ABI void clear_states(Edge e, int count) {
+  for (int i = 0; i < count; ++i)
+    e[i].state = kUnknown;
 }
+
+// A base block that splits or is traced per pixel reads and writes the
+// slots of its top and bottom sides between their corners, slots of the
+// lines of corners (76 lines of 800 samples, 2.4 MB at 800x600), which
+// trace_line does not clear (only the corners): the first of the line's two
+// bands that needs a side's slots clears them and marks the side open
+// (kSideOpen in its left corner); the other band runs after it (adaptive.h),
+// and sides no block splits are not touched in the frame.
+RT64K_COLD RT64K_HOT_ABI void open_side(Edge side, int w) {
+  if (side[0].state & kSideOpen) return;
+  side[0].state |= kSideOpen;
+  clear_states(side + 1, w - 1);
+}
+
+inline void copy_slot(Edge to, int i, Edge from, int j) { to[i] = from[j]; }
 
 // A block: corners at x0, x1 (x1 >= x0) and y0, y1; owns [x0, xEnd) x [y0, yEnd).
 struct Node {
@@ -129,9 +148,8 @@ constexpr int kGroup = 16;
 constexpr int kBatch = 32;
 struct Batch {
   int n;
-  int x[kBatch], y[kBatch];
+  float x[kBatch], y[kBatch]; // pixel coordinates, as trace_primary4 takes them
   Sample* out[kBatch];
-  u8* state[kBatch];  // the slot's state, or null (a pixel inside a block)
   u32* pixel[kBatch]; // the framebuffer pixel to write too, or null
   Sample spare[kBatch];
 };
@@ -142,7 +160,8 @@ struct Context {
   Batch batch;
   Edge scratch; // the band's scratch for inner lines; `used` entries taken
   int used;
-  bool large; // the block being split is larger than kMaxInterpolated
+  const Node* base; // the base block being processed
+  bool large;       // the block being split is larger than kMaxInterpolated
 };
 
 // The one place the adaptive renderer casts primary rays: traces the batch,
@@ -154,23 +173,18 @@ RT64K_HOT_ABI void flush(Context& c) {
   const AdaptiveFrame& f = *c.f;
   for (int i = 0; i < b.n; i += 4) {
     int count = b.n - i < 4 ? b.n - i : 4;
-    float xs[4] = {0, 0, 0, 0}, ys[4] = {0, 0, 0, 0};
     Vec3 color[4];
     PathRecord paths[4];
-    for (int k = 0; k < count; ++k) {
-      xs[k] = (float)b.x[i + k];
-      ys[k] = (float)b.y[i + k];
-    }
-    trace_primary4(*f.scene, f.cam, xs, ys, count, color, paths, c.stats);
+    trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
     for (int k = 0; k < count; ++k) {
       int j = i + k;
       u32 packed = pack_color(color[k]);
       b.out[j]->packed = packed;
       b.out[j]->path = paths[k];
-      if (b.state[j]) *b.state[j] = kKnown;
+      b.out[j]->state = kKnown; // (a spare's is not read)
       if (b.pixel[j]) *b.pixel[j] = packed;
       if (f.kinds) {
-        u8& kind = f.kinds[b.y[j] * f.width + b.x[j]];
+        u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
         if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
       }
     }
@@ -181,13 +195,12 @@ RT64K_HOT_ABI void flush(Context& c) {
 // Asks for the sample at (x, y) into slot e[0]: traced unless already
 // traced, asked for or estimated.
 RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
-  if (*e.st != kUnknown) return;
-  *e.st = kPending;
+  if (e->state != kUnknown) return;
+  e->state = kPending;
   Batch& b = c.batch;
-  b.x[b.n] = x;
-  b.y[b.n] = y;
-  b.out[b.n] = e.s;
-  b.state[b.n] = e.st;
+  b.x[b.n] = (float)x;
+  b.y[b.n] = (float)y;
+  b.out[b.n] = e;
   b.pixel[b.n] = nullptr;
   if (++b.n == kBatch) flush(c);
 }
@@ -196,10 +209,9 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
 // traced straight into the framebuffer.
 RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
   Batch& b = c.batch;
-  b.x[b.n] = x;
-  b.y[b.n] = y;
+  b.x[b.n] = (float)x;
+  b.y[b.n] = (float)y;
   b.out[b.n] = &b.spare[b.n];
-  b.state[b.n] = nullptr;
   b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
   if (++b.n == kBatch) flush(c);
 }
@@ -225,9 +237,9 @@ namespace {
 // estimated (adaptive_estimate; not for a block larger than
 // kMaxInterpolated: c.large) or asked for.
 RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
-  if (side.st[mid] != kUnknown) return;
-  if (!c.large && adaptive_estimate(side.s[0], side.s[len], side.s[mid])) {
-    side.st[mid] = kEstimated;
+  if (side[mid].state != kUnknown) return;
+  if (!c.large && adaptive_estimate(side[0], side[len], side[mid])) {
+    side[mid].state = kEstimated;
     return;
   }
   request(c, x, y, side + mid);
@@ -236,8 +248,7 @@ RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid
 RT64K_HOT_ABI Edge allocate(Context& c, int count) {
   Edge e = c.scratch + c.used;
   c.used += count;
-  for (int i = 0; i < count; ++i)
-    e.st[i] = kUnknown;
+  clear_states(e, count);
   return e;
 }
 
@@ -263,7 +274,7 @@ RT64K_HOT_ABI Edge side_slot(const Node& n, int x, int y) {
   if (y == n.y1) return n.bottom + (x - n.x0);
   if (x == n.x0) return n.left + (y - n.y0);
   if (x == n.x1) return n.right + (y - n.y0);
-  return Edge{nullptr, nullptr};
+  return nullptr;
 }
 
 RT64K_HOT_ABI int grid_count(int size, int block) {
@@ -289,13 +300,13 @@ RT64K_HOT_ABI int band_scratch(int baseBlock) {
   return total;
 }
 
-RT64K_HOT_ABI int states_as_samples(int states) {
-  return (states + (int)sizeof(Sample) - 1) / (int)sizeof(Sample);
+RT64K_HOT_ABI int bytes_as_samples(int bytes) {
+  return (bytes + (int)sizeof(Sample) - 1) / (int)sizeof(Sample);
 }
 
 // The caller's buffer: the lines of corners (gridH x width samples), then
-// each band's scratch, then one state byte per sample of both, then the
-// bands' queue (Queue: two counters, then a done flag per band).
+// each band's scratch (each sample with its slot state), then the bands'
+// queue (Queue: two counters, then a done flag per band).
 RT64K_HOT_ABI int sample_slots(const AdaptiveFrame& f) {
   return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
 }
@@ -309,18 +320,14 @@ int queue_bytes(int bands) { return (int)sizeof(Queue) + bands; }
 
 RT64K_HOT_ABI Queue* queue(const AdaptiveFrame& f) {
   int samples = sample_slots(f);
-  return (Queue*)(f.corners + samples + states_as_samples(samples));
+  return (Queue*)(f.corners + samples);
 }
 
-RT64K_HOT_ABI Edge line_edge(const AdaptiveFrame& f, int k) {
-  u8* states = (u8*)(f.corners + sample_slots(f));
-  return Edge{f.corners + k * f.width, states + k * f.width};
-}
+RT64K_HOT_ABI Edge line_edge(const AdaptiveFrame& f, int k) { return f.corners + k * f.width; }
 
 RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
   int offset = f.gridH * f.width + band * band_scratch(f.baseBlock);
-  u8* states = (u8*)(f.corners + sample_slots(f));
-  return Edge{f.corners + offset, states + offset};
+  return f.corners + offset;
 }
 
 RT64K_HOT_ABI void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
@@ -388,11 +395,11 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {
       Edge e = side_slot(n, x, y);
-      if (!e.s) {
+      if (!e) {
         if (!written) request_pixel(c, x, y);
       } else if (written) {
-        f.fb[y * f.stride + x] = e.s->packed;
-        if (f.kinds && *e.st == kEstimated) {
+        f.fb[y * f.stride + x] = e->packed;
+        if (f.kinds && e->state == kEstimated) {
           u8& k = f.kinds[y * f.width + x];
           k = (u8)((k & ~kKindMask) | kInterpolated);
         }
@@ -412,8 +419,8 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
   for (int i = 0; i < count; ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
-    const Sample &c00 = n.top.s[0], &c10 = n.top.s[w];
-    const Sample &c01 = n.bottom.s[0], &c11 = n.bottom.s[w];
+    const Sample &c00 = n.top[0], &c10 = n.top[w];
+    const Sample &c01 = n.bottom[0], &c11 = n.bottom[w];
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
     // Small blocks whose records differ: interpolated where the corners'
     // colours are close (kSmallContrast).
@@ -439,6 +446,10 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
     if (n.kind == kInterpolated) {
       interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
       continue;
+    }
+    if (&n == c.base) {
+      open_side(n.top, w);
+      open_side(n.bottom, w);
     }
     if (is_small(f, w, h)) {
       n.kind = kTraced;
@@ -519,8 +530,8 @@ RT64K_HOT_ABI int line_owner(int k, int bands) {
 RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
   Edge line = line_edge(f, k);
-  for (int x = 0; x < f.width; ++x)
-    line.st[x] = kUnknown;
+  for (int i = 0; i < f.gridW; ++i) // the corners only (open_side: the rest)
+    line[grid_coord(i, f.baseBlock, f.width)].state = kUnknown;
   int y = grid_coord(k, f.baseBlock, f.height);
   // A one-pixel-high image: both lines are row 0; the band reads line 0 as
   // its bottom too (run_band), so line 1 is not traced.
@@ -535,8 +546,7 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
 RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
-  for (int i = 1; i < h; ++i)
-    col.st[i] = kUnknown;
+  clear_states(col + 1, h - 1);
   copy_slot(col, 0, top, x);
   copy_slot(col, h, bottom, x);
 }
@@ -566,6 +576,7 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
     if (right != left) start_column(columns[right], top, bottom, x1, h);
     Node n =
         make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, columns[left], columns[right]);
+    c.base = &n;
     process_group(c, &n, 1);
     left = right;
   }
@@ -665,7 +676,7 @@ int adaptive_corner_count(int width, int height, int baseBlock) {
   f.baseBlock = baseBlock;
   f.gridH = grid_count(height, baseBlock);
   int samples = sample_slots(f);
-  return samples + states_as_samples(samples) + states_as_samples(queue_bytes(f.gridH - 1));
+  return samples + bytes_as_samples(queue_bytes(f.gridH - 1));
 }
 
 void adaptive_begin(AdaptiveFrame& f) {

@@ -52,10 +52,13 @@ enum AdaptiveMode : u8 {
   kModeCopyOnly, // colour copy + subdivision, never interpolate
 };
 
-// A traced sample: its packed colour and what the decision compares.
+// A traced sample: its packed colour and what the decision compares, and
+// the renderer's bookkeeping of the slot that keeps it (adaptive.cpp:
+// SlotState; not compared).
 struct CornerSample {
   u32 packed;
   PathRecord path;
+  u8 state;
 };
 
 // Largest base block the renderer takes (the tools accept 2..256).

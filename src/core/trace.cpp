@@ -204,8 +204,8 @@ constexpr int kFindHit = -2;
 // scene (tests/test_raytree.cpp). One function for trace() and trace_hit(),
 // so that intro.exe holds one copy of the nearest-hit search (a second,
 // inlined into trace(), cost 430 packed bytes).
-static Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, int depth,
-                       float weight, u32 skip) {
+static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
+                                     int depth, float weight, u32 skip) {
   const Scene& s = *ctx.scene;
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];

@@ -42,9 +42,23 @@ set(RT64K_HOT_SOURCES src/core/adaptive.cpp src/core/rtmath.cpp src/core/shapes.
 # the same flag on another hot file cost bytes or instructions (PRE on
 # trace.cpp +2 %). rtmath.cpp's functions (rt_pow, rt_exp, rt_sin, rt_cos...)
 # cost no measurable instruction at -Os.
-set(RT64K_HOT_FLAGS_adaptive -fno-tree-pre)
-set(RT64K_HOT_FLAGS_shapes -fno-tree-sink)
-set(RT64K_HOT_FLAGS_rtmath -Os)
+# Round seven (docs/win32.md "Round seven: flags under System V"), priced
+# again after the hot core took the System V convention (src/core/abi.h):
+# on every hot file -fno-gcse -fno-tree-pta, and one to five flags per file;
+# together UPX1 -416 bytes (normalised: timestamp and checksum zeroed; -448
+# with the scene builders' flags below), the packed file 24,576 -> 24,064,
+# renderer instructions -0.22 / -0.78 % (adaptive8 at 12 and 44 s), the same
+# PNGs. Each flag is free alone or on top of the others but adaptive.cpp's
+# -fno-tree-ch: +0.19 / +0.15 % against the set without it, -96 UPX1 bytes,
+# the ones that cross the step. Re-price after a change to a hot file.
+set(RT64K_HOT_FLAGS_ALL -fno-gcse -fno-tree-pta)
+set(RT64K_HOT_FLAGS_adaptive -fno-tree-pre ${RT64K_HOT_FLAGS_ALL} -fno-caller-saves -fno-tree-sink
+    -fno-tree-ch -fno-tree-coalesce-vars)
+set(RT64K_HOT_FLAGS_shapes -fno-tree-sink ${RT64K_HOT_FLAGS_ALL} -fno-tree-ch -fno-shrink-wrap
+    -fno-expensive-optimizations)
+set(RT64K_HOT_FLAGS_rtmath -Os ${RT64K_HOT_FLAGS_ALL})
+set(RT64K_HOT_FLAGS_trace ${RT64K_HOT_FLAGS_ALL} -fno-ivopts)
+set(RT64K_HOT_FLAGS_primary ${RT64K_HOT_FLAGS_ALL} -fno-caller-saves -fno-tree-pre)
 
 # Sources that run once per frame or once per run (scene building, captions,
 # the synth at start-up): compiled at -Os instead of -O2 in every build, to
@@ -57,3 +71,10 @@ set(RT64K_COLD_SOURCES scenes/scenes.cpp src/core/scene.cpp src/core/shapes_buil
 # "Round three"); the synth's time and samples unchanged.
 set(RT64K_COLD_FLAGS -Os -fno-move-loop-invariants -fno-code-hoisting -fno-tree-dominator-opts
     -fno-caller-saves)
+# Per cold file, after RT64K_COLD_FLAGS: RT64K_COLD_FLAGS_<stem>. Round seven
+# (docs/win32.md "Round seven: flags under System V"): the scene builders
+# without loop optimisation (run once per frame, ~4,000 instructions).
+set(RT64K_COLD_FLAGS_LOOPS -fno-tree-sink -fno-tree-ch -fno-tree-loop-im -fno-tree-loop-optimize)
+set(RT64K_COLD_FLAGS_scenes ${RT64K_COLD_FLAGS_LOOPS})
+set(RT64K_COLD_FLAGS_scene ${RT64K_COLD_FLAGS_LOOPS})
+set(RT64K_COLD_FLAGS_shapes_build ${RT64K_COLD_FLAGS_LOOPS})

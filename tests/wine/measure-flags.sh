@@ -162,6 +162,14 @@ row "cold sources and src/win32: without round three's -fno flags (-fmove-loop-i
 row "hot core: without round five's flags (-ftree-dominator-opts; adaptive.cpp -ftree-pre, shapes.cpp -ftree-sink, rtmath.cpp -O2)" round5 \
   -DRT64K_HOT_EXTRA=-ftree-dominator-opts -DRT64K_HOT_EXTRA_adaptive=-ftree-pre \
   -DRT64K_HOT_EXTRA_shapes=-ftree-sink -DRT64K_HOT_EXTRA_rtmath=-O2
+# Round seven, flags under System V (docs/win32.md): every hot file's new
+# flags and the scene builders' taken back (the build before them: UPX1 +448).
+row "hot core and scene builders: without round seven's flags (-fgcse -ftree-pta on each hot file; adaptive.cpp -fcaller-saves -ftree-sink -ftree-ch -ftree-coalesce-vars, shapes.cpp -ftree-ch -fshrink-wrap -fexpensive-optimizations, trace.cpp -fivopts, scalar/primary.cpp -fcaller-saves -ftree-pre; scenes.cpp, scene.cpp, shapes_build.cpp -ftree-sink -ftree-ch -ftree-loop-im -ftree-loop-optimize)" round7_flags \
+  "-DRT64K_HOT_EXTRA_adaptive=-fgcse;-ftree-pta;-fcaller-saves;-ftree-sink;-ftree-ch;-ftree-coalesce-vars" \
+  "-DRT64K_HOT_EXTRA_shapes=-fgcse;-ftree-pta;-ftree-ch;-fshrink-wrap;-fexpensive-optimizations" \
+  "-DRT64K_HOT_EXTRA_rtmath=-fgcse;-ftree-pta" "-DRT64K_HOT_EXTRA_trace=-fgcse;-ftree-pta;-fivopts" \
+  "-DRT64K_HOT_EXTRA_primary=-fgcse;-ftree-pta;-fcaller-saves;-ftree-pre" \
+  "-DRT64K_COLD_EXTRA=-ftree-sink;-ftree-ch;-ftree-loop-im;-ftree-loop-optimize"
 # Round seven (docs/win32.md): the hot core's calling convention taken back
 # (src/core/abi.h), and the red zone its System V functions would have.
 row "hot core in the Win64 calling convention (RT64K_HOT_ABI_MS; before round seven)" win64_abi \

@@ -219,11 +219,23 @@ TEST(PlotScript, HoldsNoPathAndOnlyPlainLabels) {
   std::string script;
   ASSERT_TRUE(plot_script(points, PlotTitle{800, 600, 256, 2}, script));
   EXPECT_EQ(script.find("set output"), std::string::npos);
-  EXPECT_NE(script.find("\"full\" 59.7900 99.000 99.000 142.9000\n"), std::string::npos) << script;
-  EXPECT_NE(script.find("\"adaptive8\" 12.5100 41.190 45.400 36.8000\n"), std::string::npos);
+  EXPECT_NE(script.find("\"full\" 59.7900 99.000 99.000 142.9000 101.50\n"), std::string::npos)
+      << script;
+  EXPECT_NE(script.find("\"adaptive8\" 12.5100 41.190 45.400 36.8000 47.90\n"), std::string::npos);
   EXPECT_NE(script.find("800x600 frame"), std::string::npos);
   // Every quote in the script is ours: a fixed count.
   EXPECT_EQ(std::count(script.begin(), script.end(), '\''), 14);
+  // Two modes at nearly the same spot: the second's label under its min-PSNR point.
+  std::vector<PlotPoint> same = {{"adaptive8", 5.17, 42.22, 45.56, 10.48},
+                                 {"adaptive16", 5.16, 42.22, 45.56, 10.32},
+                                 {"adaptive4", 7.76, 46.10, 47.92, 14.38},
+                                 {"slow", 5.17, 30.0, 35.0, 9.0}};
+  ASSERT_TRUE(plot_script(same, PlotTitle{800, 600, 256, 2}, script));
+  EXPECT_NE(script.find("\"adaptive8\" 5.1700 42.220 45.560 10.4800 48.06\n"), std::string::npos)
+      << script;
+  EXPECT_NE(script.find("\"adaptive16\" 5.1600 42.220 45.560 10.3200 39.72\n"), std::string::npos);
+  EXPECT_NE(script.find("\"adaptive4\" 7.7600 46.100 47.920 14.3800 50.42\n"), std::string::npos);
+  EXPECT_NE(script.find("\"slow\" 5.1700 30.000 35.000 9.0000 37.50\n"), std::string::npos);
   points[0].label = "a'b";
   EXPECT_FALSE(plot_script(points, PlotTitle{800, 600, 256, 2}, script));
   points[0].label = "x\ny";

@@ -149,17 +149,35 @@ bool plot_script(const std::vector<PlotPoint>& points, const PlotTitle& title,
             "set logscale x\nset grid\nset key bottom right\n"
             "set arrow from graph 0, first 40 to graph 1, first 40 nohead dt 2 lc rgb '#c00000'\n"
             "$modes << EOD\n";
-  for (const PlotPoint& p : points) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    const PlotPoint& p = points[i];
     if (p.label.empty() ||
         p.label.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
                                   "0123456789-_") != std::string::npos)
       return false;
-    std::snprintf(buf, sizeof buf, "\"%s\" %.4f %.3f %.3f %.4f\n", p.label.c_str(), p.medianMs,
-                  finite_or_identical(p.minPsnr), finite_or_identical(p.medianPsnr), p.p95Ms);
+    // Where the label goes, in dB: one line (kLabelLineDb) above the median
+    // point; the second of points drawn at nearly the same place (medians
+    // within kSameSpot of each other in ms and kLabelLineDb in PSNR, e.g.
+    // adaptive8 and adaptive16 of the same speed and error) one line below
+    // its min-PSNR point instead, any further one stacked higher above, so
+    // that no two names print over each other.
+    constexpr double kLabelLineDb = 2.5, kSameSpot = 1.15;
+    double median = finite_or_identical(p.medianPsnr);
+    int near = 0;
+    for (size_t j = 0; j < i; ++j) {
+      const PlotPoint& q = points[j];
+      double ratio = p.medianMs > q.medianMs ? p.medianMs / q.medianMs : q.medianMs / p.medianMs;
+      double dy = median - finite_or_identical(q.medianPsnr);
+      if (ratio < kSameSpot && dy < kLabelLineDb && dy > -kLabelLineDb) ++near;
+    }
+    double labelDb = near == 1 ? finite_or_identical(p.minPsnr) - kLabelLineDb
+                               : median + kLabelLineDb * (near ? near : 1);
+    std::snprintf(buf, sizeof buf, "\"%s\" %.4f %.3f %.3f %.4f %.2f\n", p.label.c_str(), p.medianMs,
+                  finite_or_identical(p.minPsnr), median, p.p95Ms, labelDb);
     script += buf;
   }
   script += "EOD\n"
-            "plot $modes using 2:4:1 with labels offset 0,1 notitle, \\\n"
+            "plot $modes using 2:6:1 with labels notitle, \\\n"
             "     $modes using 2:4 with points pt 7 ps 1.5 title 'median PSNR', \\\n"
             "     $modes using 2:3 with points pt 5 ps 1.2 title 'min PSNR'\n";
   return true;

@@ -182,6 +182,39 @@ TEST(Math, ExpEdgesNeverInfOrNaN) {
     ASSERT_EQ(rt_exp2(float(k)), std::ldexp(1.0f, k)) << k;
 }
 
+// rt_exp_nonpositive (Cook-Torrance's inline exp) is rt_exp bit for bit for
+// every x <= 0, NaN and -Inf: over the negative floats by a stride of bit
+// patterns, densely where the reduction's k changes (y = x log2(e) next to
+// -(j + 1/2)) and at the underflow edge (y next to -126), and the specials.
+TEST(Math, ExpNonpositiveIsRtExpBitForBit) {
+  int checked = 0, mismatches = 0;
+  float firstBad = 0;
+  auto check = [&](float x) {
+    ++checked;
+    if (rt_bits(rt_exp_nonpositive(x)) != rt_bits(rt_exp(x)) && mismatches++ == 0) firstBad = x;
+  };
+  for (u64 b = 0x80000000u; b <= 0xff800000u; b += 1021)
+    check(rt_from_bits((u32)b));
+  constexpr double kLog2e = 1.4426950408889634;
+  for (int j = 0; j <= 126; ++j) {
+    u32 mid = rt_bits(float(-(j + 0.5) / kLog2e));
+    for (u32 d = 0; d <= 512; ++d) {
+      check(rt_from_bits(mid - 256 + d));
+    }
+  }
+  u32 edge = rt_bits(float(-126.0 / kLog2e));
+  for (u32 d = 0; d <= 4096; ++d)
+    check(rt_from_bits(edge - 2048 + d));
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (float x : {0.0f, -0.0f, -1e-45f, -1e-38f, -1e-20f, -1.0f, -87.0f, -88.0f, -1e30f, -inf, nan})
+    check(x);
+  EXPECT_EQ(mismatches, 0) << "first at x = " << firstBad;
+  EXPECT_GT(checked, 2000000);
+  EXPECT_EQ(rt_exp_nonpositive(-0.0f), 1.0f);
+  EXPECT_EQ(rt_exp_nonpositive(-100.0f), 0.0f);
+}
+
 // ---------------------------------------------------------------- log2
 
 // rtmath.h: |error| <= 2e-7 max(1, |log2 x|) for normal x > 0.

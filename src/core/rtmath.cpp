@@ -51,19 +51,11 @@ float rt_cos(float x) { return sin_quadrant(x, 1); }
 
 namespace {
 
-// 2^x for a double x, so that rt_exp's x * log2(e) keeps its low bits: in
-// float that product's rounding alone gave |x| * 6e-8 relative error.
+// 2^x with its range checks: 0 below -126 (and NaN), saturated at 127.
 float exp2_core(double x) {
   if (!(x > -126.0)) return 0.0f; // underflow (and NaN) -> 0: a light term that vanishes
   if (x > 127.0) x = 127.0;       // saturate: 2^127 is finite; no Inf leaves this function
-  i32 k = rt_round(x);
-  float f = (float)((x - k) * 0.6931471805599453); // |f| <= ln2/2
-  // e^f, Taylor to f^7: truncation (ln2/2)^8/8! = 5e-9.
-  float p =
-      1 + f * (1 + f * (0.5f + f * (1.0f / 6 +
-                                    f * (1.0f / 24 + f * (1.0f / 120 +
-                                                          f * (1.0f / 720 + f * (1.0f / 5040)))))));
-  return p * rt_from_bits((u32)(k + 127) << 23);
+  return rt_exp2_reduced(x, rt_round(x));
 }
 
 } // namespace

@@ -52,6 +52,33 @@ float rt_cos(float x);
 // saturates at 2^127 (never Inf).
 float rt_exp2(float x);
 float rt_exp(float x);
+
+// 2^x = e^f 2^k for a double x and an integer k with x - k in [-1/2, 1/2]:
+// the steps of rt_exp2 and rt_exp after the range checks. x stays double so
+// that rt_exp's x * log2(e) keeps its low bits: in float that product's
+// rounding alone gave |x| * 6e-8 relative error.
+inline float rt_exp2_reduced(double x, i32 k) {
+  float f = (float)((x - k) * 0.6931471805599453); // |f| <= ln2/2
+  // e^f, Taylor to f^7: truncation (ln2/2)^8/8! = 5e-9.
+  float p =
+      1 + f * (1 + f * (0.5f + f * (1.0f / 6 +
+                                    f * (1.0f / 24 + f * (1.0f / 120 +
+                                                          f * (1.0f / 720 + f * (1.0f / 5040)))))));
+  return p * rt_from_bits((u32)(k + 127) << 23);
+}
+
+// rt_exp(x) for x <= 0 (or NaN), bit for bit, inline: for a hot caller
+// (Cook-Torrance's D) that should not save its registers around a call
+// (docs/tracer-speed.md, round seven, third wave). With x <= 0 the product
+// y = x log2(e) is <= 0: rt_exp2's saturation at 127 never applies, and
+// rt_round(y) is (i32)(y - 0.5) (for y = +0 or -0, rt_round adds +0.5 and
+// this -0.5: both truncate to 0). Below -126 (and NaN, -Inf), 0 as rt_exp.
+__attribute__((always_inline)) inline float rt_exp_nonpositive(float x) {
+  double y = x * 1.4426950408889634;
+  if (!(y > -126.0)) return 0.0f;
+  return rt_exp2_reduced(y, (i32)(y - 0.5));
+}
+
 // log2(x) for normal x > 0: |error| <= 2e-7 max(1, |log2 x|) (absolute near
 // x = 1, relative elsewhere). Zero, negative, denormal or NaN x returns -126.
 float rt_log2(float x);

@@ -315,9 +315,12 @@ log_lines() { tr -d '\r' <"$WORK/intro.out" | sed -n 's/^t=\([-0-9.]*\) a=\([-0-
 log_count() { log_lines | wc -l; }
 
 # Frames the log may run ahead of the screen: a frame's line is written right
-# after its blit, so the frame on screen during a screenshot is one logged
-# from (lines before the screenshot) - kLogSlack on, up to the lines written
-# kLogSettleSeconds after it.
+# after its blit, but Wine shows the window's pixels at most every ~50 ms
+# (~10 frames), so the frame on screen during a screenshot may be older than
+# the newest line. The count is taken before xwininfo and import run, which
+# has been early enough (matches came 5-29 lines after it, round seven): the
+# frame on screen is one logged from (lines before the screenshot) -
+# kLogSlack on, up to the lines written kLogSettleSeconds after it.
 readonly kLogSlack=2
 readonly kLogSettleSeconds=0.2
 

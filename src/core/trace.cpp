@@ -77,15 +77,15 @@ inline u32 range_mask(int begin, int end) {
   return (end >= 32 ? ~0u : (1u << end) - 1) & ~((1u << begin) - 1);
 }
 
-// Nearest hit (nearest_among(), trace.h) among the objects whose bounds the
-// ray may hit. Objects whose bit is set in `skip` are not tested: the ray
-// leaves one of them on a side it cannot return from (leaves_for_good() in
-// shapes.h). hit.normal and hit.front are left unset: hit_normal() fills them.
-// Inlined into trace(), which is little more than this and trace_hit():
-// the call and its register saves cost ~20 instructions a secondary ray.
+// Nearest hit (nearest_among(), trace.h) among the objects of `range` whose
+// bounds the ray may hit. A caller leaves out of `range` the object a ray
+// leaves on a side it cannot return from (leaves_for_good() in shapes.h).
+// hit.normal and hit.front are left unset: hit_normal() fills them. Inlined
+// into trace_tree (the call and its register saves cost ~20 instructions a
+// secondary ray) and first_hit.
 __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray, Hit& hit,
-                                                  u32 skip = 0) {
-  return nearest_among(s, ray, bound_mask(s, ray, range_mask(0, s.numObjects) & ~skip), hit);
+                                                  u32 range) {
+  return nearest_among(s, ray, bound_mask(s, ray, range), hit);
 }
 
 // Light transmitted from p towards a light at distance `dist` along unit L:
@@ -93,7 +93,7 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // (a tinted shadow), an opaque one blocks it. `code` gets the shadow code of
 // PathRecord. Background objects cast no shadows (the contract).
 // Only the objects in `range` are tested: the foreground less the object
-// the ray leaves for good (the caller's, as nearest()'s skip). Objects in `exits` are
+// the ray leaves for good (the caller's, as left out of nearest()'s range). Objects in `exits` are
 // crossed without a test: the ray starts inside that closed convex solid
 // and the light lies outside it (trace_hit), so the ray leaves it exactly
 // once on the way; it stays in index order with the others, so the product
@@ -173,10 +173,6 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 I, Vec3 L) {
 
 Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
-} // namespace
-
-namespace {
-
 // A secondary ray waiting for its turn (trace_hit): where it starts, its
 // weight and the objects it skips; its depth is its slot's (below).
 struct Pending {
@@ -224,7 +220,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   for (;;) {
     const Ray& ray = *cur;
-    if (id == kFindHit) id = nearest_among(s, ray, bound_mask(s, ray, all & ~skip), hit);
+    if (id == kFindHit) id = nearest(s, ray, hit, all & ~skip);
     u32* node = nullptr;
     PathRecord* rec = ctx.record;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
@@ -367,10 +363,12 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
 
 int first_hit_object(const Scene& scene, const Ray& ray) {
   Hit hit;
-  return nearest(scene, ray, hit);
+  return first_hit(scene, ray, hit);
 }
 
-int first_hit(const Scene& scene, const Ray& ray, Hit& hit) { return nearest(scene, ray, hit); }
+int first_hit(const Scene& scene, const Ray& ray, Hit& hit) {
+  return nearest(scene, ray, hit, range_mask(0, scene.numObjects));
+}
 
 CameraRays camera_rays(const Camera& cam, int width, int height) {
   Vec3 fwd = normalize(cam.target - cam.pos, Vec3{0, 0, 1});

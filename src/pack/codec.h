@@ -1,0 +1,32 @@
+// codec.h - the intro's own packer: the contract between its encoder (the
+// Linux build tool that packs intro.exe) and its decoder (the start-up stub
+// inside the packed exe).
+//
+// The codec is a context-mixing compressor: one model predicts each bit of
+// the image from what came before, and a binary arithmetic coder spends
+// -log2(p) bits on it. The encoder and the decoder run the same model code,
+// so they stay in step by construction; the model uses integers only (no
+// floating point), so the native tool and the MinGW-built stub compute the
+// same predictions bit for bit.
+//
+// The decoder is freestanding (no C runtime, no heap, no OS calls): the
+// caller gives it the model's memory, kWorkBytes zeroed bytes (in the
+// packed exe: an uninitialised section, which costs no file bytes).
+#pragma once
+
+namespace rt64k::pack {
+
+// Bytes of model memory decode() and encode() need, zeroed by the caller.
+extern const unsigned kWorkBytes;
+
+// Decodes `size` bytes of `in` (what encode() wrote) into `out`.
+// `work`: kWorkBytes zeroed bytes.
+void decode(const unsigned char* in, unsigned char* out, unsigned size, void* work);
+
+// Encodes `size` bytes of `in` into `out`, which has room for `capacity`
+// bytes; returns the encoded length, or 0 if `out` is too small.
+// `work`: kWorkBytes zeroed bytes. Host only (the packer tool and tests).
+unsigned encode(const unsigned char* in, unsigned size, unsigned char* out, unsigned capacity,
+                void* work);
+
+} // namespace rt64k::pack

@@ -43,6 +43,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -1550,6 +1551,54 @@ TEST(Triangle, FarAwayAndTiny) {
   Cast near = cast(unit_triangle(), v3(0.2f, 0.2f, 1e-6f), v3(0, 0, -1));
   ASSERT_TRUE(near.hit);
   EXPECT_EQ(near.h.t, 1e-6f);
+}
+
+// make_triangle() stores the unit normal hit_normal() returns (r0, r1, h):
+// bit for bit the normalize(n) hit_normal() computed at every hit before,
+// unit, along the double-precision cross product, and turned to face the
+// ray on both sides, head-on and grazing (within 1e-3 of the plane).
+TEST(Triangle, StoredUnitNormalIsNormalizeOfN) {
+  Rng g(117);
+  int hits = 0, grazing = 0;
+  for (int i = 0; i < 20000; ++i) {
+    double scale = loguni(g, 0x1p-28, 0x1p29);
+    D3 centre = rand_ball(g, 0x1p31 * uni(g, 0, 1) * uni(g, 0, 1));
+    D3 p[3];
+    for (D3& v : p)
+      v = centre + rand_unit(g) * scale;
+    if (i % 4 == 0)
+      p[2] = p[0] + (p[1] - p[0]) * uni(g, 0, 1) + rand_unit(g) * (scale * 1e-6); // sliver
+    Shape s = make_triangle(fv(p[0]), fv(p[1]), fv(p[2]));
+    if (s.kind != kTriangle) continue;
+    Vec3 stored = normalize(s.n);
+    ASSERT_EQ(0, std::memcmp(&stored.x, &s.r0, 4)) << i;
+    ASSERT_EQ(0, std::memcmp(&stored.y, &s.r1, 4)) << i;
+    ASSERT_EQ(0, std::memcmp(&stored.z, &s.h, 4)) << i;
+    ASSERT_NEAR(flen(stored), 1.0, 1e-6) << i;
+    D3 exact = unit(cross(dv(s.b) - dv(s.a), dv(s.c) - dv(s.a)));
+    ASSERT_GT(dot(exact, dv(stored)), 1.0 - 1e-6) << i;
+    // Rays through the centroid from both sides, head-on and grazing.
+    D3 at = (dv(s.a) + dv(s.b) + dv(s.c)) * (1.0 / 3);
+    D3 e1, e2;
+    frame(exact, e1, e2);
+    for (int side = -1; side <= 1; side += 2) {
+      for (double c : {1.0, 1e-3}) {
+        D3 d = unit(exact * (-side * c) + e1 * std::sqrt(1 - c * c));
+        Vec3 dir = fdir(d), org = fv(at - d * (2 * scale));
+        Cast hit = cast(s, org, dir);
+        if (!hit.hit) continue;
+        ++hits;
+        grazing += c < 1;
+        bool front = side > 0;
+        ASSERT_EQ(hit.h.front, front) << i;
+        Vec3 want = front ? stored : -stored;
+        ASSERT_EQ(0, std::memcmp(&hit.h.normal, &want, sizeof(Vec3))) << i;
+        ASSERT_LE(dot(hit.h.normal, dir), 0.0f) << i;
+      }
+    }
+  }
+  EXPECT_GT(hits, 25000);   // 25,534 (slivers are missed by many grazing rays)
+  EXPECT_GT(grazing, 9000); // 9,199
 }
 
 TEST(Triangle, SpawnedRayDoesNotRehit) {

@@ -385,7 +385,7 @@ void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
     outward = frustum_outward(s, ray, hit);
     break;
   case kTriangle:
-    outward = normalize(s.n);
+    outward = Vec3{s.r0, s.r1, s.h}; // normalize(n), stored by make_triangle()
     break;
   default: // kEmpty
     return;

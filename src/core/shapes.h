@@ -126,7 +126,10 @@ enum : u8 { kCapBase = 1, kCapTop = 2 };
 //   kTriangle: a, b, c = vertices; front side is where cross(b-a, c-a) points.
 //              make_triangle() also stores n = cross(b-a, c-a) and
 //              sideMargin = kSideRel * max_abs(b-a) * max_abs(c-a) (below),
-//              both times the power of two that puts max_abs(n) in [1, 2).
+//              both times the power of two that puts max_abs(n) in [1, 2);
+//              and r0, r1, h = x, y, z of normalize(n), the unit normal
+//              hit_normal() returns (stored: no square root and division per
+//              hit; docs/tracer-speed.md, round eight).
 //   kEmpty:    no fields; no ray hits it.
 // size (every kind): R of the contract, the radius of the shape's bounding
 // ball (0 for a plane); it scales the spawn offset.

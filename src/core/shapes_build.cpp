@@ -97,7 +97,7 @@ Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
   if (!(m >= kFloatMin && m <= kFloatMax)) return s; // no area a float normal can hold
   // Scaled by the power of two that brings max_abs(n) into [1, 2), and
   // sideMargin with it: exact, so hit_triangle()'s side test decides as with
-  // the raw cross product, and normalize(n) in hit_normal() neither under-
+  // the raw cross product, and normalize(n) below neither under-
   // nor overflows for any triangle in the domain.
   float pow2 = rt_from_bits((254u - (rt_bits(m) >> 23)) << 23); // 2^-floor(log2 m)
   s.kind = kTriangle;
@@ -106,6 +106,12 @@ Shape make_triangle(Vec3 a, Vec3 b, Vec3 c) {
   s.c = c;
   s.n = n * pow2;
   s.sideMargin = kSideRel * max_abs(b - a) * max_abs(c - a) * pow2;
+  // The unit normal hit_normal() returns, once here instead of at every hit
+  // (the same expression, so the same bits it computed there before).
+  Vec3 unit = normalize(s.n);
+  s.r0 = unit.x;
+  s.r1 = unit.y;
+  s.h = unit.z;
   Vec3 centre = (a + b + c) * (1.0f / 3);
   s.size = rt_max(length(a - centre), rt_max(length(b - centre), length(c - centre)));
   return s;

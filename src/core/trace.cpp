@@ -266,16 +266,20 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
         // 1) the refracted ray is the mirror ray: one ray carries both weights
         // (reflect + transmit) instead of the same ray traced twice
         // (docs/tracer-speed.md, round five).
+        // An opaque material casts the reflected ray only (its refracted
+        // one has f = transmit <= 0).
         float eta = 1, cosI = 1, sin2T = 0;
         bool tir = false;
+        int rays = 1;
         if (m.transmit > 0) {
           // Snell: eta = n1/n2; entering (front) goes air -> solid.
           eta = hit.front ? 1.0f / m.ior : m.ior;
           cosI = dot(N, -ray.dir); // >= 0: N faces the ray
           sin2T = eta * eta * (1.0f - cosI * cosI);
           tir = sin2T > 1.0f;
+          rays = 2 - tir;
         }
-        for (int k = 0; k < 2 - tir; ++k) {
+        for (int k = 0; k < rays; ++k) {
           float f = k ? m.transmit : m.reflect + (tir ? m.transmit : 0.0f);
           if (!(f > 0 && weight * f >= kMinRayWeight)) continue;
           Vec3 D;

@@ -84,8 +84,8 @@ inline u32 range_mask(int begin, int end) {
 // into trace_tree (the call and its register saves cost ~20 instructions a
 // secondary ray) and first_hit.
 __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray, Hit& hit,
-                                                  u32 range) {
-  return nearest_among(s, ray, bound_mask(s, ray, range), hit);
+                                                  u32 range, u32 foreground) {
+  return nearest_among(s, ray, bound_mask(s, ray, range), hit, foreground);
 }
 
 // Light transmitted from p towards a light at distance `dist` along unit L:
@@ -220,7 +220,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   for (;;) {
     const Ray& ray = *cur;
-    if (id == kFindHit) id = nearest(s, ray, hit, all & ~skip);
+    if (id == kFindHit) id = nearest(s, ray, hit, all & ~skip, foreground);
     u32* node = nullptr;
     PathRecord* rec = ctx.record;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
@@ -371,7 +371,8 @@ int first_hit_object(const Scene& scene, const Ray& ray) {
 }
 
 int first_hit(const Scene& scene, const Ray& ray, Hit& hit) {
-  return nearest(scene, ray, hit, range_mask(0, scene.numObjects));
+  return nearest(scene, ray, hit, range_mask(0, scene.numObjects),
+                 range_mask(0, scene.numForeground));
 }
 
 CameraRays camera_rays(const Camera& cam, int width, int height) {

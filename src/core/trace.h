@@ -109,10 +109,11 @@ int first_hit(const Scene& scene, const Ray& ray, Hit& hit);
 // when no foreground object was hit (the background contract in scene.h).
 // hit.t is reset to kHuge first; returns the object index or -1, with hit's
 // t, piece and local (first_hit() and the packet tracer's scalar path).
-inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hit) {
+// `foreground` is the mask of objects [0, numForeground), which a caller
+// that searches many rays (trace_tree) computes once.
+inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hit, u32 foreground) {
   hit.t = kHuge;
   int found = -1;
-  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
   for (u32 m = candidates & foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
     if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
@@ -123,6 +124,10 @@ inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hi
     if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
   }
   return found;
+}
+inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hit) {
+  return nearest_among(s, ray, candidates, hit,
+                       s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1);
 }
 
 // Pinhole camera set up once per frame: pixel (x, y) (x right, y down, both

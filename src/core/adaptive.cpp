@@ -78,7 +78,8 @@ constexpr int kEstimateContrast = 8;
 // unrecorded (deeper than kRecordDepth, or reflections weaker than
 // kRecordWeight): most of the flicker was in glass blocks interpolated from
 // corners whose colours differ. Measured in docs/speed-vs-error.md (before
-// the third round: split down to 4 px whatever the colours).
+// the third round: split down to 4 px whatever the colours; 24 at the
+// minimum size until round eight).
 constexpr int kGlassContrast[2] = {16, 32};
 
 // A block of the minimum size whose corners' records differ is traced per

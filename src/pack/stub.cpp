@@ -1,0 +1,81 @@
+// stub.cpp - the entry point of intro-packed.exe, the intro packed by our
+// own packer (tools/pack/, docs/win32.md "Round eight: our own packer").
+//
+// The packed exe has two sections (src/pack/stub.ld): an uninitialised
+// read+write+execute one at RVA 0x1000, as large as intro.exe's image, into
+// which this stub decodes intro.exe's sections; and one file-backed section
+// with the payload (what tools/pack wrote: a Payload record, then the
+// encoded image), this stub's code and its own import table (kernel32's
+// LoadLibraryA and GetProcAddress, filled in by the system's loader).
+//
+// At start-up: decode the image into place (it was linked at the same fixed
+// base, 0x140000000, without relocations, so it runs where it lands), fill
+// in the image's import address table the way the loader would have (the
+// image's own import directory, decoded with it, lists each DLL and each
+// function by name), then jump to intro.exe's entry point with the stack as
+// the loader left it. Freestanding: no C runtime, no heap.
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+
+#include "codec.h"
+
+// What tools/pack writes at the start of the payload section (its layout is
+// also tools/pack/pack.cpp's kPayloadHeader*): RVAs are relative to the
+// image base, which the packed exe shares with intro.exe.
+struct Payload {
+  unsigned image_bytes;   // decoded bytes, from RVA 0x1000
+  unsigned entry_rva;     // intro.exe's AddressOfEntryPoint
+  unsigned imports_rva;   // intro.exe's import directory
+  unsigned encoded_bytes; // bytes of `encoded` (read by tools/pack's check only)
+  unsigned char encoded[1];
+};
+
+extern "C" IMAGE_DOS_HEADER __ImageBase;
+extern "C" const Payload rt64k_payload; // the generated payload file
+static constexpr unsigned kImageRva = 0x1000;
+
+// The codec's model memory: zero-initialised, so .bss: no file bytes (the
+// linker script puts it after the image in the uninitialised section).
+alignas(64) static unsigned char work[rt64k::pack::kWorkBytes];
+
+// Returns the address to jump to: intro.exe's entry point, or null when a
+// DLL or one of its functions is missing (the entry code below then returns
+// 1 to the loader's thread start, which ends the process with that code, as
+// the loader's own refusal to start it would have).
+extern "C" void* stub_main() {
+  auto* base = reinterpret_cast<unsigned char*>(&__ImageBase);
+  rt64k::pack::decode(rt64k_payload.encoded, base + kImageRva, rt64k_payload.image_bytes, work);
+  for (auto* d = reinterpret_cast<IMAGE_IMPORT_DESCRIPTOR*>(base + rt64k_payload.imports_rva);
+       d->Name != 0; ++d) {
+    HMODULE dll = LoadLibraryA(reinterpret_cast<char*>(base + d->Name));
+    if (dll == nullptr) return nullptr;
+    // tools/pack refuses imports by ordinal: every entry is the RVA of a
+    // hint (2 bytes) followed by the function's name.
+    auto* name = reinterpret_cast<ULONGLONG*>(base + d->OriginalFirstThunk);
+    auto* slot = reinterpret_cast<FARPROC*>(base + d->FirstThunk);
+    for (; *name != 0; ++name, ++slot) {
+      *slot = GetProcAddress(dll, reinterpret_cast<char*>(base + *name + 2));
+      if (*slot == nullptr) return nullptr;
+    }
+  }
+  return base + rt64k_payload.entry_rva;
+}
+
+// The entry point (asm: C++ cannot leave the stack as it found it before a
+// jump). The loader calls it with RSP = 8 mod 16; stub_main, a Win64
+// function, needs RSP = 0 mod 16 before its call and 32 bytes of shadow
+// space above its return address: 40 bytes. After it, RSP is the loader's
+// again and the jump enters intro_entry as if the loader had called it.
+__asm__(".section .text$stub_start,\"x\"\n"
+        ".globl stub_start\n"
+        "stub_start:\n"
+        "  subq $40, %rsp\n"
+        "  call stub_main\n"
+        "  addq $40, %rsp\n"
+        "  testq %rax, %rax\n"
+        "  jz 1f\n"
+        "  jmp *%rax\n"
+        "1:\n"
+        "  movl $1, %eax\n"
+        "  ret\n"
+        ".text\n");

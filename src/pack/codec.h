@@ -19,7 +19,7 @@ namespace rt64k::pack {
 // Bytes of model memory decode() and encode() need, zeroed by the caller
 // (the model's tables; the packed exe reserves them in its uninitialised
 // section, so the figure is fixed at compile time).
-constexpr unsigned kWorkBytes = 1u << 24;
+constexpr unsigned kWorkBytes = 1u << 26;
 
 // Decodes `size` bytes of `in` (what encode() wrote) into `out`.
 // `work`: kWorkBytes zeroed bytes.

@@ -1,0 +1,52 @@
+// decode.cpp - the packer's decoder: runs in the packed exe's stub, so it is
+// freestanding (no C runtime, no heap, no OS calls) and small.
+#include "codec.h"
+#include "model.h"
+
+namespace rt64k::pack {
+
+static_assert(sizeof(model::Tables) <= kWorkBytes, "the model tables exceed kWorkBytes");
+
+void decode(const unsigned char* in, unsigned char* out, unsigned size, void* work) {
+  using namespace model;
+  const u32 bound = max_encoded(size);
+  u32 at = 0;
+  auto next = [&]() -> u32 { return at < bound ? in[at++] : 0u; };
+  Params prm;
+  prm.n = static_cast<u8>(next());
+  if (prm.n < 1 || prm.n > kMaxModels) prm.n = 1; // damaged header: still bounded
+  prm.flags = static_cast<u8>(next());
+  prm.limit = static_cast<u8>(next());
+  prm.rate = static_cast<u8>(next());
+  for (int i = 0; i < prm.n; ++i) {
+    u32 lo = next();
+    prm.mask[i] = static_cast<u16>(lo | next() << 8);
+  }
+  Predictor m;
+  m.init(work, prm);
+  u32 x1 = 0, x2 = 0xFFFFFFFFu, x = 0;
+  for (int i = 0; i < 4; ++i)
+    x = x << 8 | next();
+  for (u32 k = 0; k < size; ++k) {
+    u32 c = 1;
+    while (c < 256) {
+      u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(m.p());
+      int y = x <= xmid;
+      if (y)
+        x2 = xmid;
+      else
+        x1 = xmid + 1;
+      m.update(y);
+      c = c << 1 | static_cast<u32>(y);
+      while (((x1 ^ x2) & 0xFF000000u) == 0) {
+        x1 <<= 8;
+        x2 = x2 << 8 | 255;
+        x = x << 8 | next();
+      }
+    }
+    out[k] = static_cast<u8>(c);
+  }
+  if (prm.flags & kFlagCallTransform) call_transform(out, size, false);
+}
+
+} // namespace rt64k::pack

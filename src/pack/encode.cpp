@@ -1,0 +1,78 @@
+// encode.cpp - the packer's encoder (host only): the same model as
+// decode.cpp, driving the arithmetic coder the other way.
+#include "encode.h"
+
+#include <cstring>
+#include <vector>
+
+namespace rt64k::pack {
+
+using namespace model;
+
+unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, unsigned char* out,
+                     unsigned capacity, void* work) {
+  const u32 limit = capacity < max_encoded(size) ? capacity : max_encoded(size);
+  std::vector<u8> src(in, in + size);
+  if (prm.flags & kFlagCallTransform) call_transform(src.data(), size, true);
+  u32 n = 0;
+  bool overflow = false;
+  auto put = [&](u32 b) {
+    if (n < limit)
+      out[n++] = static_cast<u8>(b);
+    else
+      overflow = true;
+  };
+  put(prm.n);
+  put(prm.flags);
+  put(prm.limit);
+  put(prm.rate);
+  for (int i = 0; i < prm.n; ++i) {
+    put(prm.mask[i] & 255u);
+    put(prm.mask[i] >> 8);
+  }
+  Predictor m;
+  m.init(work, prm);
+  u32 x1 = 0, x2 = 0xFFFFFFFFu;
+  for (u32 k = 0; k < size && !overflow; ++k) {
+    for (int j = 7; j >= 0; --j) {
+      int y = src[k] >> j & 1;
+      u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(m.p());
+      if (y)
+        x2 = xmid;
+      else
+        x1 = xmid + 1;
+      m.update(y);
+      while (((x1 ^ x2) & 0xFF000000u) == 0) {
+        put(x2 >> 24);
+        x1 <<= 8;
+        x2 = x2 << 8 | 255;
+      }
+    }
+  }
+  // One byte puts the decoder's window inside [x1, x2] when the bytes after
+  // the stream read as zero (the decode contract).
+  put((x1 >> 24) + 1);
+  if (overflow) return 0;
+  while (n > 0 && out[n - 1] == 0)
+    --n; // zeros past the end are implied
+  return n;
+}
+
+Params default_params() {
+  Params p{};
+  const u16 masks[] = {0x00, 0x01, 0x03, 0x07, 0x0F, 0x3F, 0x02, 0x06, 0x108, 0x188, 0x0E, 0xFF};
+  p.n = sizeof masks / sizeof masks[0];
+  for (int i = 0; i < p.n; ++i)
+    p.mask[i] = masks[i];
+  p.flags = 0;
+  p.limit = 60;
+  p.rate = 20;
+  return p;
+}
+
+unsigned encode(const unsigned char* in, unsigned size, unsigned char* out, unsigned capacity,
+                void* work) {
+  return encode_with(default_params(), in, size, out, capacity, work);
+}
+
+} // namespace rt64k::pack

@@ -42,7 +42,8 @@ alignas(64) static unsigned char work[rt64k::pack::kWorkBytes];
 // DLL or one of its functions is missing (the entry code below then returns
 // 1 to the loader's thread start, which ends the process with that code, as
 // the loader's own refusal to start it would have).
-extern "C" void* stub_main() {
+// `used`: only the asm below calls it, which link-time optimisation cannot see.
+extern "C" [[gnu::used]] void* stub_main() {
   auto* base = reinterpret_cast<unsigned char*>(&__ImageBase);
   rt64k::pack::decode(rt64k_payload.encoded, base + kImageRva, rt64k_payload.image_bytes, work);
   for (auto* d = reinterpret_cast<IMAGE_IMPORT_DESCRIPTOR*>(base + rt64k_payload.imports_rva);

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
@@ -276,12 +277,14 @@ Image load(const char* path) {
 }
 
 // `path` appears whole or not at all: written beside it, then renamed.
-void writeFile(const std::string& path, const std::string& text) {
+// `executable`: mode 0755 (an exe), else 0644.
+void writeFile(const std::string& path, const std::string& text, bool executable = false) {
   const std::string temp = path + ".tmp" + std::to_string(getpid());
   FILE* f = std::fopen(temp.c_str(), "wb");
   if (!f) fail("cannot create " + temp + ": " + std::strerror(errno));
   bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
   ok = std::fclose(f) == 0 && ok;
+  ok = chmod(temp.c_str(), executable ? 0755 : 0644) == 0 && ok;
   if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
     std::remove(temp.c_str());
     fail("cannot write " + path);
@@ -409,7 +412,7 @@ int finish(const char* inPath, const char* outPath) {
     put32(header + 16, 0);                           // SizeOfRawData
     put32(header + 36, kScnRwx | kScnUninitialised); // characteristics
     std::string text(file.begin(), file.end());
-    writeFile(outPath, text);
+    writeFile(outPath, text, true);
     return 0;
   });
 }

@@ -10,27 +10,28 @@
 //
 // At start-up: decode the image into place (it was linked at the same fixed
 // base, 0x140000000, without relocations, so it runs where it lands), fill
-// in the image's import address table the way the loader would have (the
-// image's own import directory, decoded with it, lists each DLL and each
-// function by name), then jump to intro.exe's entry point with the stack as
-// the loader left it. Freestanding: no C runtime, no heap.
+// in the image's import address table the way the loader would have (from a
+// compact list of DLL and function names decoded with the image), then jump to intro.exe's entry
+// point with the stack as the loader left it. Freestanding: no C runtime, no heap.
 #define WIN32_LEAN_AND_MEAN
 #include <windows.h>
 
 #include "codec.h"
 
-// What tools/pack writes at the start of the payload section (its layout is
-// also tools/pack/pack.cpp's kPayloadHeader*): RVAs are relative to the
+// What tools/pack writes at the start of the payload section (its size is
+// tools/pack/pack.cpp's kPayloadHeaderBytes): RVAs are relative to the
 // image base, which the packed exe shares with intro.exe.
 struct Payload {
   unsigned image_bytes;   // decoded bytes, from RVA 0x1000
   unsigned entry_rva;     // intro.exe's AddressOfEntryPoint
-  unsigned imports_rva;   // intro.exe's import directory
-  unsigned encoded_bytes; // bytes of `encoded` (read by tools/pack's check only)
+  unsigned imports_rva;   // the import list in the decoded image (below)
+  unsigned iat_rva;       // intro.exe's import address table, its first slot
+  unsigned encoded_bytes; // bytes of `encoded` (read by `rt64k-pack check` only)
   unsigned char encoded[1];
 };
 
-extern "C" IMAGE_DOS_HEADER __ImageBase;
+// The image base (GNU ld's name, as MSVC's), as bytes: the RVAs index it.
+extern "C" unsigned char __ImageBase[];
 extern "C" const Payload rt64k_payload; // the generated payload file
 static constexpr unsigned kImageRva = 0x1000;
 
@@ -38,26 +39,35 @@ static constexpr unsigned kImageRva = 0x1000;
 // linker script puts it after the image in the uninitialised section).
 alignas(64) static unsigned char work[rt64k::pack::kWorkBytes];
 
+// Returns the address after the NUL that ends the string at `s`.
+static const char* skip(const char* s) {
+  while (*s++ != 0) {
+  }
+  return s;
+}
+
 // Returns the address to jump to: intro.exe's entry point, or null when a
 // DLL or one of its functions is missing (the entry code below then returns
 // 1 to the loader's thread start, which ends the process with that code, as
 // the loader's own refusal to start it would have).
+//
+// The imports: tools/pack replaced intro.exe's import directory by a list
+// (pack.cpp, importList()): per DLL its name (without ".dll", which
+// LoadLibraryA appends) and its functions' names, each NUL-terminated, an
+// empty name after the last function; an empty DLL name ends the list. The
+// function addresses go into consecutive IAT slots, one slot skipped after
+// each DLL (the null that ends its table in intro.exe's layout).
 // `used`: only the asm below calls it, which link-time optimisation cannot see.
 extern "C" [[gnu::used]] void* stub_main() {
-  auto* base = reinterpret_cast<unsigned char*>(&__ImageBase);
+  unsigned char* base = __ImageBase;
   rt64k::pack::decode(rt64k_payload.encoded, base + kImageRva, rt64k_payload.image_bytes, work);
-  for (auto* d = reinterpret_cast<IMAGE_IMPORT_DESCRIPTOR*>(base + rt64k_payload.imports_rva);
-       d->Name != 0; ++d) {
-    HMODULE dll = LoadLibraryA(reinterpret_cast<char*>(base + d->Name));
+  auto* slot = reinterpret_cast<FARPROC*>(base + rt64k_payload.iat_rva);
+  for (auto* name = reinterpret_cast<const char*>(base + rt64k_payload.imports_rva); *name != 0;
+       ++name, ++slot) {
+    HMODULE dll = LoadLibraryA(name);
     if (dll == nullptr) return nullptr;
-    // tools/pack refuses imports by ordinal: every entry is the RVA of a
-    // hint (2 bytes) followed by the function's name.
-    auto* name = reinterpret_cast<ULONGLONG*>(base + d->OriginalFirstThunk);
-    auto* slot = reinterpret_cast<FARPROC*>(base + d->FirstThunk);
-    for (; *name != 0; ++name, ++slot) {
-      *slot = GetProcAddress(dll, reinterpret_cast<char*>(base + *name + 2));
-      if (*slot == nullptr) return nullptr;
-    }
+    for (name = skip(name); *name != 0; name = skip(name))
+      if ((*slot++ = GetProcAddress(dll, name)) == nullptr) return nullptr;
   }
   return base + rt64k_payload.entry_rva;
 }

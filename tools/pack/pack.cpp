@@ -37,9 +37,9 @@ constexpr unsigned kDirImport = 1, kDirIat = 12;
 constexpr unsigned kScnUninitialised = 0x80;
 constexpr unsigned kScnRwx = 0xe0000000; // MEM_EXECUTE | MEM_READ | MEM_WRITE
 constexpr unsigned long long kOrdinalFlag = 1ull << 63;
-// The payload record stub.cpp reads: four 32-bit fields, then the encoded
+// The payload record stub.cpp reads: five 32-bit fields, then the encoded
 // bytes (struct Payload).
-constexpr unsigned kPayloadHeaderBytes = 16;
+constexpr unsigned kPayloadHeaderBytes = 20;
 // More than any image the packed exe could hold (the 64 kB limit).
 constexpr unsigned kMaxImageBytes = 1u << 24;
 
@@ -210,46 +210,134 @@ void validate(const Pe& p, const Bytes& file) {
   (void)file;
 }
 
-// The import directory, walked as the stub will walk it: every descriptor,
-// DLL name and lookup entry must lie in the decoded bytes, every import by
-// name. Returns the number of functions.
-unsigned checkImports(const Bytes& image, unsigned end, unsigned directory) {
+// One imported function: the IAT slot the loader would fill, its DLL and name.
+struct Import {
+  unsigned slot;
+  std::string dll, name;
+};
+
+// The import directory as the loader reads it: every descriptor, DLL name,
+// lookup and address table entry must lie in the image's file bytes, every
+// import by name. `zero` marks every byte these structures occupy.
+std::vector<Import> readImports(const Bytes& image, unsigned end, unsigned directory,
+                                std::vector<bool>& zero) {
+  zero.assign(image.size(), false);
   auto in = [&](unsigned long long rva, unsigned long long bytes) {
     return rva >= kImageRva && rva + bytes <= end;
+  };
+  auto mark = [&](unsigned long long rva, unsigned long long bytes) {
+    for (unsigned long long i = rva; i < rva + bytes; ++i)
+      zero[i] = true;
   };
   auto name = [&](unsigned long long rva, const char* what) {
     if (!in(rva, 1))
       fail(std::string("an import's ") + what + " lies outside the image's file bytes");
     for (unsigned long long i = rva; i < end; ++i)
-      if (image[i] == 0) return;
+      if (image[i] == 0) {
+        mark(rva, i + 1 - rva);
+        return std::string(reinterpret_cast<const char*>(&image[rva]));
+      }
     fail(std::string("an import's ") + what + " is not terminated");
   };
-  unsigned functions = 0;
+  std::vector<Import> imports;
   for (unsigned d = directory;; d += 20) {
     if (!in(d, 20)) fail("the import directory lies outside the image's file bytes");
+    mark(d, 20);
     unsigned lookup, dll, iat;
     std::memcpy(&lookup, &image[d], 4);
     std::memcpy(&dll, &image[d + 12], 4);
     std::memcpy(&iat, &image[d + 16], 4);
-    if (dll == 0) return functions;
-    name(dll, "DLL name");
+    if (dll == 0) return imports;
+    const std::string dllName = name(dll, "DLL name");
+    if (dllName.empty()) fail("an empty DLL name");
     for (unsigned i = 0;; ++i) {
       if (!in(lookup + 8ull * i, 8) || !in(iat + 8ull * i, 8))
         fail("an import lookup or address table lies outside the image's file bytes");
+      mark(lookup + 8ull * i, 8);
+      mark(iat + 8ull * i, 8);
       unsigned long long entry;
       std::memcpy(&entry, &image[lookup + 8ull * i], 8);
       if (entry == 0) break;
       if (entry & kOrdinalFlag) fail("an import by ordinal: the stub imports by name only");
-      name(entry + 2, "function name");
-      ++functions;
+      if (!in(entry, 2)) fail("an import's hint lies outside the image's file bytes");
+      mark(entry, 2);
+      imports.push_back({iat + 8 * i, dllName, name(entry + 2, "function name")});
+      if (imports.back().name.empty()) fail("an empty function name");
     }
   }
+}
+
+// LoadLibraryA appends ".dll" to a name without an extension (Microsoft's
+// LoadLibraryA documentation; Wine does the same): "GDI32.dll" -> "gdi32".
+std::string shortDllName(const std::string& dll) {
+  std::string s;
+  for (char c : dll)
+    s += (c >= 'A' && c <= 'Z') ? char(c - 'A' + 'a') : c;
+  if (s.size() > 4 && s.compare(s.size() - 4, 4, ".dll") == 0 && s.find('.') == s.size() - 4)
+    s.resize(s.size() - 4);
+  return s;
+}
+
+// The compact import list the stub walks instead of the import directory:
+// per DLL, its name and then its functions' names, each NUL-terminated, an
+// empty name ending the DLL; an empty DLL name ending the list. The stub
+// fills the IAT slots in order from the first, skipping one (the
+// terminator of each DLL's address table) after each DLL: the tool checks
+// that the IAT has this layout.
+std::string importList(const std::vector<Import>& imports) {
+  std::string list;
+  unsigned slot = imports.empty() ? 0 : imports[0].slot;
+  for (size_t i = 0; i < imports.size(); ++i) {
+    const bool first = i == 0 || imports[i].dll != imports[i - 1].dll;
+    if (first) {
+      if (i > 0) {
+        list += '\0';
+        slot += 8; // the previous DLL's terminator
+      }
+      list += shortDllName(imports[i].dll) + '\0';
+    }
+    if (imports[i].slot != slot)
+      fail("the import address tables are not consecutive (one per DLL, each ended by a null "
+           "slot): the stub fills them in one run");
+    list += imports[i].name + '\0';
+    slot += 8;
+  }
+  if (!imports.empty()) list += '\0';
+  list += '\0';
+  return list;
+}
+
+// The stub's walk of `list` (at `at` in `image`), as in stub.cpp: the
+// (slot, DLL, function) it would fill. For `check`.
+std::vector<Import> walkList(const Bytes& image, unsigned at, unsigned slot) {
+  std::vector<Import> out;
+  auto next = [&]() {
+    std::string s;
+    while (true) {
+      if (at >= image.size()) fail("the import list runs past the image");
+      if (image[at] == 0) break;
+      s += char(image[at++]);
+    }
+    ++at;
+    return s;
+  };
+  for (std::string dll; !(dll = next()).empty(); slot += 8)
+    for (std::string name; !(name = next()).empty(); slot += 8)
+      out.push_back({slot, dll, name});
+  return out;
 }
 
 struct Image {
   Pe pe;
   Bytes image;
   unsigned end; // RVA after the last initialised byte: the decoded part is [0x1000, end)
+  std::vector<Import> imports;
+  // What the stub decodes: the image with every byte of the import
+  // directory's structures zeroed (intro.exe never reads them; the IAT is
+  // filled by the stub) and the compact import list (importList()) written
+  // right after the IAT, at listRva.
+  Bytes packed;
+  unsigned listRva, iatRva;
 };
 
 // Runs f, prefixing any error's message with `path`.
@@ -268,10 +356,22 @@ Image load(const char* path) {
     im.pe = parse(file);
     validate(im.pe, file);
     im.image = layOut(file, im.pe, &im.end);
-    if (im.pe.dirRva[kDirImport] != 0)
-      checkImports(im.image, im.end, im.pe.dirRva[kDirImport]);
-    else
-      fail("no import directory (the stub expects one)");
+    if (im.pe.dirRva[kDirImport] == 0) fail("no import directory (the stub expects one)");
+    std::vector<bool> zero;
+    im.imports = readImports(im.image, im.end, im.pe.dirRva[kDirImport], zero);
+    if (im.imports.empty()) fail("no imported function (the stub expects some)");
+    const std::string list = importList(im.imports);
+    im.packed = im.image;
+    for (size_t i = 0; i < zero.size(); ++i)
+      if (zero[i]) im.packed[i] = 0;
+    im.iatRva = im.imports[0].slot;
+    im.listRva = im.imports.back().slot + 16; // after the last DLL's terminator
+    for (size_t i = 0; i < list.size(); ++i) {
+      const size_t at = im.listRva + i;
+      if (at >= im.end || (!zero[at] && im.image[at] != 0))
+        fail("no room for the import list after the import address table");
+      im.packed[at] = (unsigned char)list[i];
+    }
     return im;
   });
 }
@@ -300,7 +400,7 @@ Bytes decodeNative(const unsigned char* encoded, unsigned bytes) {
 int pack(const char* inPath, const char* outPath) {
   const Image im = load(inPath);
   const unsigned bytes = im.end - kImageRva;
-  const unsigned char* body = &im.image[kImageRva];
+  const unsigned char* body = &im.packed[kImageRva];
   Bytes encoded(bytes + bytes / 4 + 4096), work(rt64k::pack::kWorkBytes, 0);
   const unsigned n =
       rt64k::pack::encode(body, bytes, encoded.data(), unsigned(encoded.size()), work.data());
@@ -315,7 +415,8 @@ int pack(const char* inPath, const char* outPath) {
   s += "  .space " + std::to_string(im.pe.sizeOfImage - kImageRva) + "\n";
   s += "  .section .rt64k_payload,\"dr\"\n  .globl rt64k_payload\nrt64k_payload:\n";
   s += "  .long " + std::to_string(bytes) + ", " + std::to_string(im.pe.entryRva) + ", " +
-       std::to_string(im.pe.dirRva[kDirImport]) + ", " + std::to_string(n) + "\n";
+       std::to_string(im.listRva) + ", " + std::to_string(im.iatRva) + ", " + std::to_string(n) +
+       "\n";
   for (unsigned i = 0; i < n; i += 32) {
     s += "  .byte ";
     for (unsigned j = i; j < n && j < i + 32; ++j)
@@ -361,16 +462,36 @@ int check(const char* originalPath, const char* packedPath) {
       fail("the packed exe's second section does not follow the headers");
     const unsigned char* payload = &file[packed.rawOffset];
     auto field = [&](unsigned i) { return read32(file, packed.rawOffset + 4 * i); };
-    const unsigned bytes = field(0), entry = field(1), imports = field(2), encodedBytes = field(3);
-    if (bytes != im.end - kImageRva || entry != o.entryRva || imports != o.dirRva[kDirImport])
-      fail("the payload record (size, entry, imports) does not match the original");
+    const unsigned bytes = field(0), entry = field(1), list = field(2), iat = field(3),
+                   encodedBytes = field(4);
+    if (bytes != im.end - kImageRva || entry != o.entryRva || list != im.listRva ||
+        iat != im.iatRva)
+      fail("the payload record (size, entry, import list, IAT) does not match the original");
     if (kPayloadHeaderBytes + encodedBytes > packed.rawSize)
       fail("the payload runs past its section");
     const Bytes decoded = decodeNative(payload + kPayloadHeaderBytes, bytes);
-    const unsigned char* body = &im.image[kImageRva];
-    for (unsigned i = 0; i < bytes; ++i)
-      if (decoded[i] != body[i])
-        fail("the decoded image differs from the original at RVA " + std::to_string(kImageRva + i));
+    // Byte for byte the original except for its import directory's
+    // structures: zero, the IAT to be filled by the stub, and the list.
+    Bytes image = im.image;
+    std::memcpy(&image[kImageRva], decoded.data(), bytes);
+    unsigned differing = 0;
+    for (unsigned i = kImageRva; i < im.end; ++i)
+      if (image[i] != im.image[i]) {
+        if (image[i] != im.packed[i])
+          fail("the decoded image differs from the packed one at RVA " + std::to_string(i));
+        ++differing;
+      }
+    // The stub's walk of the decoded list fills exactly the original's IAT
+    // slots with the original's functions.
+    const std::vector<Import> walked = walkList(image, list, iat);
+    if (walked.size() != im.imports.size())
+      fail("the import list names " + std::to_string(walked.size()) + " functions, the original " +
+           std::to_string(im.imports.size()));
+    for (size_t i = 0; i < walked.size(); ++i)
+      if (walked[i].slot != im.imports[i].slot || walked[i].name != im.imports[i].name ||
+          walked[i].dll != shortDllName(im.imports[i].dll))
+        fail("import " + std::to_string(i) + " (" + walked[i].dll + "!" + walked[i].name +
+             ") is not the original's");
     const unsigned importDir = p.dirRva[kDirImport];
     if (importDir < packed.rva || importDir >= packed.rva + packed.virtualSize)
       fail("the packed exe's import directory is not in its second section");
@@ -378,8 +499,10 @@ int check(const char* originalPath, const char* packedPath) {
     const unsigned importBytes = packed.rva + packed.virtualSize - importDir;
     const unsigned stubBytes = packed.virtualSize - payloadBytes - importBytes;
     const unsigned padding = packed.rawSize - packed.virtualSize;
-    std::printf("rt64k-pack check: %s decodes to %s's %u image bytes: identical\n", packedPath,
-                originalPath, bytes);
+    std::printf("rt64k-pack check: %s decodes to %s's %u image bytes: identical but for %u bytes "
+                "of its import directory, replaced by a list of its %zu imports, which name the "
+                "same functions for the same IAT slots\n",
+                packedPath, originalPath, bytes, differing, walked.size());
     std::printf("  %zu bytes = headers %u + payload %u (record %u, encoded %u) + stub code and "
                 "constants %u + imports %u + padding %u\n",
                 file.size(), p.sizeOfHeaders, payloadBytes, kPayloadHeaderBytes, encodedBytes,

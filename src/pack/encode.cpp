@@ -60,13 +60,14 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
 
 Params default_params() {
   Params p{};
-  const u16 masks[] = {0x00, 0x01, 0x03, 0x07, 0x0F, 0x3F, 0x02, 0x06, 0x108, 0x188, 0x0E, 0xFF};
+  const u16 masks[] = {0x00, 0x01,  0x03,  0x07, 0x0F, 0x3F,  0x02,
+                       0x06, 0x108, 0x188, 0x0E, 0xFF, 0x200, 0x201};
   p.n = sizeof masks / sizeof masks[0];
   for (int i = 0; i < p.n; ++i)
     p.mask[i] = masks[i];
-  p.flags = 0;
-  p.limit = 60;
-  p.rate = 20;
+  p.flags = kFlagCallTransform;
+  p.limit = 255;
+  p.rate = 16;
   return p;
 }
 

@@ -40,8 +40,12 @@ constexpr u32 kMaskX86Op = 1u << 9;     // x86 parse: the next byte's role, the 
 constexpr u32 kMaskX86Modrm = 1u << 10; // x86 parse: the role and the ModRM byte
 constexpr u32 kMaskX86Prev = 1u << 11;  // x86 parse: the previous instruction's opcode
 
-// Header flags.
-constexpr u8 kFlagCallTransform = 1; // E8/E9 rel32 -> absolute
+// Header flags: which rel32 fields the coder sees as absolute (the field's
+// value plus its offset), so that references to one target carry the same
+// bytes. Which bytes form such a field depends only on the opcode and ModRM
+// bytes before it, which the transform leaves alone.
+constexpr u8 kFlagBranch = 1; // CALL/JMP rel32 (E8, E9) and Jcc rel32 (0F 80-8F)
+constexpr u8 kFlagRip = 2;    // RIP-relative disp32 (ModRM mod 00, r/m 101)
 
 // A counter: n0 | n1 << 8, the zeros and ones seen in its context, the
 // opposite count halved (kept above 1) on each bit so that it follows
@@ -115,41 +119,48 @@ inline const u8 kTwoByte[64] = {
     0xAA, 0xAA, 0xAA, 0xAA, 0x00, 0x00, 0x00, 0x00, 0x15, 0x03, 0x15, 0x03, 0x00, 0x00, 0x30, 0x00,
     0x30, 0x3F, 0x55, 0x55, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
 
-// The next byte's role in the x86-64 instruction stream.
-enum : u8 { kOp, kOp0F, kOp38, kOp3A, kModrm, kSib, kDisp, kImm };
+// The next byte's role in the x86-64 instruction stream: an opcode or a
+// prefix, the opcode after 0F, 0F 38 or 0F 3A, a ModRM or SIB byte, or one
+// of the `left` displacement and immediate bytes.
+enum : u8 { kOp, kOp0F, kOp38, kOp3A, kModrm, kSib, kOperand };
 
 // Follows the byte stream as x86-64 code (paq8's exe model and kkrunchy
 // parse instructions to give operand bytes their own contexts). In data it
 // parses nonsense, consistently on both sides.
 struct X86 {
-  u32 role, left, op, prev, modrm, imm, disp, rexw, o16;
+  u32 role, left, op, prev, modrm, imm, rexw, o16;
+  u32 rel; // the next 4 bytes are a rel32 field: kFlagBranch or kFlagRip
 
-  void finish() {
-    if (disp) {
-      role = kDisp;
-      left = disp;
-      disp = 0;
-    } else if (imm) {
-      role = kImm;
-      left = imm;
-      imm = 0;
-    } else {
-      role = kOp;
-      rexw = o16 = 0;
-    }
-  }
-
-  void opcode(u32 b, u32 has_modrm, u32 imm_bytes) {
-    prev = op;
-    op = b;
-    imm = imm_bytes;
-    role = kModrm;
-    if (!has_modrm) finish();
+  void operands(u32 n) {
+    left = n;
+    role = kOperand;
+    if (n == 0) role = rexw = o16 = 0;
   }
 
   void step(u32 b) {
-    switch (role) {
-    case kOp: {
+    static const u8 imm_bytes[7] = {0, 1, 4, 2, 3, 8, 4};
+    u32 r = role;
+    rel = 0;
+    if (r == kOperand) {
+      if (--left == 0) role = rexw = o16 = 0;
+      return;
+    }
+    if (r >= kModrm) {
+      if (r == kModrm) {
+        modrm = b;
+        if ((op | 1) == 0xF7 && (b & 0x30)) imm = 0; // F6/F7: only TEST has an immediate
+        if (b >> 6 != 3 && (b & 7) == 4) {
+          role = kSib;
+          return;
+        }
+      }
+      u32 mod = modrm >> 6, base = b & 7; // rm or the SIB's base: 5 with mod 0 is disp32
+      if (r == kModrm && mod == 0 && base == 5) rel = kFlagRip;
+      operands((mod == 1 ? 1 : mod == 2 || (mod == 0 && base == 5) ? 4 : 0) + imm);
+      return;
+    }
+    u32 has_modrm = 1, n = 0;
+    if (r == kOp) {
       if (b == 0x0F) {
         role = kOp0F;
         return;
@@ -160,45 +171,30 @@ struct X86 {
         if (b == 0x66) o16 = 1;
         return;
       }
-      static const u8 bytes[7] = {0, 1, 4, 2, 3, 8, 4};
-      u32 n = bytes[code];
-      if ((code == 2 || code == 6) && o16) n = 2;
-      if (code == 6 && rexw) n = 8;
-      opcode(b, c & 8, n);
-      return;
-    }
-    case kOp0F: {
-      if (b == 0x38 || b == 0x3A) {
+      n = code == 6 && rexw ? 8 : (code == 2 || code == 6) && o16 ? 2 : imm_bytes[code];
+      has_modrm = c & 8;
+      if ((b | 1) == 0xE9 && n == 4) rel = kFlagBranch;
+    } else if (r == kOp0F) {
+      if ((b | 2) == 0x3A) {
         role = b == 0x38 ? kOp38 : kOp3A;
         return;
       }
       u32 c = kTwoByte[b >> 2] >> (b & 3) * 2 & 3;
-      opcode(0x100 | b, c != 1 && c != 2, c == 2 ? 4 : c == 3);
-      return;
+      has_modrm = c != 1 && c != 2;
+      n = c == 2 ? 4 : c == 3;
+      if (c == 2) rel = kFlagBranch;
+      b |= 0x100;
+    } else {
+      n = r == kOp3A;
+      b |= r << 8;
     }
-    case kOp38:
-    case kOp3A:
-      opcode(role << 8 | b, 1, role == kOp3A);
-      return;
-    case kModrm: {
-      modrm = b;
-      u32 mod = b >> 6, rm = b & 7;
-      if ((op == 0xF6 || op == 0xF7) && (b & 0x30)) imm = 0;
-      disp = mod == 1 ? 1 : mod == 2 || (mod == 0 && rm == 5) ? 4 : 0;
-      if (mod != 3 && rm == 4)
-        role = kSib;
-      else
-        finish();
-      return;
-    }
-    case kSib:
-      if ((modrm >> 6) == 0 && (b & 7) == 5) disp = 4;
-      finish();
-      return;
-    default: // kDisp, kImm
-      if (--left == 0) finish();
-      return;
-    }
+    prev = op;
+    op = b;
+    imm = n;
+    if (has_modrm)
+      role = kModrm;
+    else
+      operands(n);
   }
 };
 
@@ -311,25 +307,6 @@ struct Predictor {
     }
   }
 };
-
-// The call transform: E8/E9 followed by a rel32 becomes E8/E9 followed by
-// (rel32 + offset of the next instruction), so calls to one function carry
-// the same four bytes. Which bytes are opcodes depends only on bytes the
-// transform leaves alone, so `forward` false undoes it exactly.
-inline void call_transform(u8* b, u32 n, bool forward) {
-  for (u32 i = 0; i + 5 <= n;) {
-    if ((b[i] & 0xFE) == 0xE8 && static_cast<u8>(b[i + 4] + 1) < 2) {
-      u32 v = b[i + 1] | b[i + 2] << 8 | b[i + 3] << 16;
-      v = forward ? v + i + 5 : v - (i + 5);
-      b[i + 1] = static_cast<u8>(v);
-      b[i + 2] = static_cast<u8>(v >> 8);
-      b[i + 3] = static_cast<u8>(v >> 16);
-      i += 5;
-    } else {
-      ++i;
-    }
-  }
-}
 
 // Header bytes for `p`.
 inline u32 header_bytes(const Params& p) { return 4 + 2 * p.n; }

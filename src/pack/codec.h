@@ -19,7 +19,9 @@ namespace rt64k::pack {
 // Bytes of model memory decode() and encode() need, zeroed by the caller
 // (the model's tables; the packed exe reserves them in its uninitialised
 // section, so the figure is fixed at compile time).
-constexpr unsigned kWorkBytes = 1u << 26;
+// 128 MiB: 14 context models of 2^22 16-bit counters (117 MB; 2^21 would
+// cost 26 bytes more on intro.exe), the mixer's weights and the SSE table.
+constexpr unsigned kWorkBytes = 1u << 27;
 
 // Decodes `size` bytes of `in` (what encode() wrote) into `out`.
 // `work`: kWorkBytes zeroed bytes.

@@ -27,7 +27,9 @@ void decode(const unsigned char* in, unsigned char* out, unsigned size, void* wo
   u32 x1 = 0, x2 = 0xFFFFFFFFu, x = 0;
   for (int i = 0; i < 4; ++i)
     x = x << 8 | next();
+  u32 field = 0; // 1 + the offset of a rel32 field being decoded
   for (u32 k = 0; k < size; ++k) {
+    if ((m.x86.rel & prm.flags) && k + 4 <= size) field = k + 1;
     u32 c = 1;
     while (c < 256) {
       u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(m.p());
@@ -45,8 +47,14 @@ void decode(const unsigned char* in, unsigned char* out, unsigned size, void* wo
       }
     }
     out[k] = static_cast<u8>(c);
+    if (field && k == field + 2) { // the field's last byte: back to relative
+      u8* f = out + field - 1;
+      u32 v = (f[0] | f[1] << 8 | f[2] << 16 | static_cast<u32>(f[3]) << 24) - (field - 1);
+      for (int i = 0; i < 4; ++i, v >>= 8)
+        f[i] = static_cast<u8>(v);
+      field = 0;
+    }
   }
-  if (prm.flags & kFlagCallTransform) call_transform(out, size, false);
 }
 
 } // namespace rt64k::pack

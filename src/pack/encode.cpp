@@ -13,7 +13,6 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
                      unsigned capacity, void* work) {
   const u32 limit = capacity < max_encoded(size) ? capacity : max_encoded(size);
   std::vector<u8> src(in, in + size);
-  if (prm.flags & kFlagCallTransform) call_transform(src.data(), size, true);
   u32 n = 0;
   bool overflow = false;
   auto put = [&](u32 b) {
@@ -34,6 +33,12 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
   m.init(work, prm);
   u32 x1 = 0, x2 = 0xFFFFFFFFu;
   for (u32 k = 0; k < size && !overflow; ++k) {
+    if ((m.x86.rel & prm.flags) && k + 4 <= size) { // a rel32 field: code it as absolute
+      u32 v = src[k] | src[k + 1] << 8 | src[k + 2] << 16 | static_cast<u32>(src[k + 3]) << 24;
+      v += k;
+      for (int i = 0; i < 4; ++i, v >>= 8)
+        src[k + i] = static_cast<u8>(v);
+    }
     for (int j = 7; j >= 0; --j) {
       int y = src[k] >> j & 1;
       u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(m.p());
@@ -60,13 +65,14 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
 
 Params default_params() {
   Params p{};
-  const u16 masks[] = {0x00, 0x01, 0x03, 0x07, 0x0F, 0x3F, 0x02, 0x06, 0x108, 0x188, 0x0E, 0xFF};
+  const u16 masks[] = {0x00, 0x01,  0x03,  0x07, 0x0F, 0x3F,  0x02,
+                       0x06, 0x108, 0x188, 0x0E, 0xFF, 0x200, 0x201};
   p.n = sizeof masks / sizeof masks[0];
   for (int i = 0; i < p.n; ++i)
     p.mask[i] = masks[i];
-  p.flags = 0;
-  p.limit = 60;
-  p.rate = 20;
+  p.flags = kFlagBranch | kFlagRip;
+  p.limit = 255;
+  p.rate = 16;
   return p;
 }
 

@@ -28,34 +28,61 @@ using i64 = long long;
 
 // Up to kMaxModels hashed context models; each has 2^kSlotBits counters.
 constexpr int kMaxModels = 14;
-constexpr int kSlotBits = 20;
+constexpr int kSlotBits = 22;
 constexpr u32 kSlots = 1u << kSlotBits;
-// The mixer's weights are selected by the partial byte c0 (1..255).
-constexpr int kMixInputs = kMaxModels + 1;
-constexpr int kApmCells = 33; // stretch(p) in 33 steps of 128 from -2048
+constexpr int kMixInputs = kMaxModels + 1; // the models and a bias
+constexpr int kApmCells = 33;              // stretch(p) in 33 steps of 128 from -2048
 
 // Model mask bits: bits 0-7 put byte -1..-8 in the context; the others
 // add derived contexts.
-constexpr u32 kMaskColumn = 1u << 8; // position & 3 (4-byte float tables)
+constexpr u32 kMaskColumn = 1u << 8;    // position & 3 (4-byte float tables)
+constexpr u32 kMaskX86Op = 1u << 9;     // x86 parse: the next byte's role, the opcode
+constexpr u32 kMaskX86Modrm = 1u << 10; // x86 parse: the role and the ModRM byte
+constexpr u32 kMaskX86Prev = 1u << 11;  // x86 parse: the previous instruction's opcode
 
-// Header flags.
-constexpr u8 kFlagCallTransform = 1; // E8/E9 rel32 -> absolute
+// Header flags: which rel32 fields the coder sees as absolute (the field's
+// value plus its offset), so that references to one target carry the same
+// bytes. Which bytes form such a field depends only on the opcode and ModRM
+// bytes before it, which the transform leaves alone.
+constexpr u8 kFlagBranch = 1; // CALL/JMP rel32 (E8, E9) and Jcc rel32 (0F 80-8F)
+constexpr u8 kFlagRip = 2;    // RIP-relative disp32 (ModRM mod 00, r/m 101)
+
+// A counter: n0 | n1 << 8, the zeros and ones seen in its context, the
+// opposite count halved (kept above 1) on each bit so that it follows
+// change (paq8's nonstationary counters). P(1) = (4 n1 + 1) / (4 n0 + 4 n1 + 2):
+// a context seen once or twice is already trusted (tuned on intro.exe:
+// factor 4 beat 2, 3 and 6; the counts beat 16-bit probabilities adapting
+// at 1/(n+1.5) by 200 bytes).
+inline int counter_p12(u16 s) {
+  int n0 = s & 255, n1 = s >> 8;
+  return ((4 * n1 + 1) * 4096) / (4 * (n0 + n1) + 2);
+}
+inline void counter_update(u16& s, int y, int limit) {
+  int n0 = s & 255, n1 = s >> 8;
+  if (y) {
+    if (n1 < limit) ++n1;
+    if (n0 > 2) n0 = n0 / 2 + 1;
+  } else {
+    if (n0 < limit) ++n0;
+    if (n1 > 2) n1 = n1 / 2 + 1;
+  }
+  s = static_cast<u16>(n1 << 8 | n0);
+}
 
 // The parameters the encoder chooses and stores in the stream's header:
 // [n][flags][limit][rate][mask lo, mask hi] * n.
 struct Params {
   u8 n;     // models in use, 1..kMaxModels
   u8 flags; // kFlag*
-  u8 limit; // counters' adaptation count limit (rate 1/(n+1.5))
+  u8 limit; // counters' count limit (at most 255)
   u8 rate;  // mixer learning rate: weight += input * err * rate >> 14
   u16 mask[kMaxModels];
 };
 
 struct Tables {
-  u32 slot[kMaxModels][kSlots]; // counters: p16 ^ 0x8000 << 16 | count
-  int weight[256][kMixInputs];  // mixer weights (16.16), by c0
-  u16 apm0[256][kApmCells];     // SSE by c0
-  u16 apm1[65536][kApmCells];   // SSE by c0 and the last byte
+  u16 slot[kMaxModels][kSlots];   // counters
+  int weight[256][kMixInputs];    // mixer weights (16.16), by mix_select()
+  u16 apm[128 * 256 * kApmCells]; // SSE by the x86 role and c0
   short stretch[4096];
 };
 
@@ -72,26 +99,126 @@ inline int squash(int d) {
   return (t[d] * (128 - w) + t[d + 1] * w + 64) >> 7;
 }
 
+// x86-64 opcode classes for the instruction parse: one-byte opcodes in
+// nibbles (bit 3: a ModRM byte follows; bits 0-2: the immediate, 0 none,
+// 1 imm8, 2 imm16/32, 3 imm16, 4 imm16+imm8, 5 moffs64, 6 imm16/32/64,
+// 7 a prefix); 0F xx in 2-bit fields (0 ModRM, 1 nothing, 2 rel32,
+// 3 ModRM + imm8). From the Intel SDM's opcode maps (vol. 2, appendix A).
+inline const u8 kOneByte[128] = {
+    0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00,
+    0x88, 0x88, 0x21, 0x07, 0x88, 0x88, 0x21, 0x07, 0x88, 0x88, 0x21, 0x07, 0x88, 0x88, 0x21, 0x07,
+    0x77, 0x77, 0x77, 0x77, 0x77, 0x77, 0x77, 0x77, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x80, 0x77, 0x77, 0xA2, 0x91, 0x00, 0x00, 0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x11,
+    0xA9, 0x99, 0x88, 0x88, 0x88, 0x88, 0x88, 0x88, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x55, 0x55, 0x00, 0x00, 0x21, 0x00, 0x00, 0x00, 0x11, 0x11, 0x11, 0x11, 0x66, 0x66, 0x66, 0x66,
+    0x99, 0x03, 0x00, 0xA9, 0x04, 0x03, 0x10, 0x00, 0x88, 0x88, 0x00, 0x00, 0x88, 0x88, 0x88, 0x88,
+    0x11, 0x11, 0x11, 0x11, 0x22, 0x10, 0x00, 0x00, 0x07, 0x77, 0x00, 0xA9, 0x00, 0x00, 0x00, 0x88};
+inline const u8 kTwoByte[64] = {
+    0x00, 0x54, 0x45, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x55, 0x55, 0x00, 0x00,
+    0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xFF, 0x40, 0x00, 0x00,
+    0xAA, 0xAA, 0xAA, 0xAA, 0x00, 0x00, 0x00, 0x00, 0x15, 0x03, 0x15, 0x03, 0x00, 0x00, 0x30, 0x00,
+    0x30, 0x3F, 0x55, 0x55, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
+
+// The next byte's role in the x86-64 instruction stream: an opcode or a
+// prefix, the opcode after 0F, 0F 38 or 0F 3A, a ModRM or SIB byte, or one
+// of the `left` displacement and immediate bytes.
+enum : u8 { kOp, kOp0F, kOp38, kOp3A, kModrm, kSib, kOperand };
+
+// Follows the byte stream as x86-64 code (paq8's exe model and kkrunchy
+// parse instructions to give operand bytes their own contexts). In data it
+// parses nonsense, consistently on both sides.
+struct X86 {
+  u32 role, left, op, prev, modrm, imm, rexw, o16;
+  u32 rel; // the next 4 bytes are a rel32 field: kFlagBranch or kFlagRip
+
+  void operands(u32 n) {
+    left = n;
+    role = kOperand;
+    if (n == 0) role = rexw = o16 = 0;
+  }
+
+  void step(u32 b) {
+    static const u8 imm_bytes[7] = {0, 1, 4, 2, 3, 8, 4};
+    u32 r = role;
+    rel = 0;
+    if (r == kOperand) {
+      if (--left == 0) role = rexw = o16 = 0;
+      return;
+    }
+    if (r >= kModrm) {
+      if (r == kModrm) {
+        modrm = b;
+        if ((op | 1) == 0xF7 && (b & 0x30)) imm = 0; // F6/F7: only TEST has an immediate
+        if (b >> 6 != 3 && (b & 7) == 4) {
+          role = kSib;
+          return;
+        }
+      }
+      u32 mod = modrm >> 6, base = b & 7; // rm or the SIB's base: 5 with mod 0 is disp32
+      if (r == kModrm && mod == 0 && base == 5) rel = kFlagRip;
+      operands((mod == 1 ? 1 : mod == 2 || (mod == 0 && base == 5) ? 4 : 0) + imm);
+      return;
+    }
+    u32 has_modrm = 1, n = 0;
+    if (r == kOp) {
+      if (b == 0x0F) {
+        role = kOp0F;
+        return;
+      }
+      u32 c = kOneByte[b >> 1] >> (b & 1) * 4 & 15, code = c & 7;
+      if (code == 7) { // a prefix
+        if ((b & 0xF0) == 0x40) rexw = b & 8;
+        if (b == 0x66) o16 = 1;
+        return;
+      }
+      n = code == 6 && rexw ? 8 : (code == 2 || code == 6) && o16 ? 2 : imm_bytes[code];
+      has_modrm = c & 8;
+      if ((b | 1) == 0xE9 && n == 4) rel = kFlagBranch;
+    } else if (r == kOp0F) {
+      if ((b | 2) == 0x3A) {
+        role = b == 0x38 ? kOp38 : kOp3A;
+        return;
+      }
+      u32 c = kTwoByte[b >> 2] >> (b & 3) * 2 & 3;
+      has_modrm = c != 1 && c != 2;
+      n = c == 2 ? 4 : c == 3;
+      if (c == 2) rel = kFlagBranch;
+      b |= 0x100;
+    } else {
+      n = r == kOp3A;
+      b |= r << 8;
+    }
+    prev = op;
+    op = b;
+    imm = n;
+    if (has_modrm)
+      role = kModrm;
+    else
+      operands(n);
+  }
+};
+
 // The context-mixing predictor: p() gives P(next bit = 1) in 1..4095;
 // update(bit) learns it. Both sides call them in the same order.
 struct Predictor {
   Tables* t;
   Params prm;
   u32 hash[kMaxModels];
-  u32* cur[kMaxModels];
+  u16* cur[kMaxModels];
   int in[kMixInputs];
+  X86 x86;
   u64 hist;   // the last 8 bytes, byte -1 lowest
   u32 c0;     // 1, then the bits of the current byte behind a leading 1
   u32 pos;    // bytes done
   int pmix;   // mixer output (12 bits)
-  int dot;    // mixer output in stretch units
-  int a0, a1; // APM cells in use (index of the lower one)
-  int aw;     // APM interpolation weight (0..127)
+  int apm_at; // the lower of the two APM cells in use
+  int apm_w;  // the upper one's interpolation weight (0..511)
 
   void init(void* work, const Params& p) {
     t = static_cast<Tables*>(work);
     prm = p;
     hist = 0;
+    x86 = X86{};
     c0 = 1;
     pos = 0;
     // stretch = squash^-1 over 0..4095.
@@ -105,12 +232,8 @@ struct Predictor {
     for (int j = pi; j < 4096; ++j)
       t->stretch[j] = 2047;
     // APMs start as the identity: cell k holds squash((k - 16) * 128) * 16.
-    for (int c = 0; c < 256 * kApmCells; ++c) {
-      u16 v = static_cast<u16>(squash((c % kApmCells - 16) * 128) * 16);
-      (&t->apm0[0][0])[c] = v;
-      for (int b = 0; b < 256; ++b)
-        (&t->apm1[0][0])[b * 256 * kApmCells + c] = v;
-    }
+    for (u32 c = 0; c < sizeof t->apm / sizeof t->apm[0]; ++c)
+      t->apm[c] = static_cast<u16>(squash((static_cast<int>(c % kApmCells) - 16) * 128) * 16);
     rehash();
   }
 
@@ -121,95 +244,69 @@ struct Predictor {
       for (int j = 0; j < 8; ++j)
         if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
       if (m & kMaskColumn) h = (h ^ (pos & 3)) * 0x2F0B4A13u;
+      if (m & kMaskX86Op) h = (h ^ (x86.role | x86.left << 3 | x86.op << 7)) * 0x2F0B4A13u;
+      if (m & kMaskX86Modrm) h = (h ^ (x86.role | x86.modrm << 3)) * 0x6F4F2A35u;
+      if (m & kMaskX86Prev) h = (h ^ x86.prev) * 0x2F0B4A13u;
       hash[i] = h;
     }
   }
 
+  // The mixer's weight set: the x86 role, the bit's position in the byte
+  // and the operand byte's index (tuned: 16,480 bytes against 17,173 for
+  // weights by c0 alone).
+  int mix_select() const {
+    return static_cast<int>(x86.role << 3 | (31 - __builtin_clz(c0)) | (x86.left & 3) << 6);
+  }
+  u16* apm_row() const { return &t->apm[((x86.role | x86.left << 3) << 8 | c0) * kApmCells]; }
+
   int p() {
     i64 sum = 0;
-    int* w = t->weight[c0];
+    const int* w = t->weight[mix_select()];
     for (int i = 0; i < prm.n; ++i) {
       u32 h = (hash[i] + c0 * 0x6F4F2A35u) * 0x9E3779B1u;
       cur[i] = &t->slot[i][h >> (32 - kSlotBits)];
-      int x = t->stretch[((*cur[i] >> 16) ^ 0x8000) >> 4];
-      in[i] = x;
-      sum += static_cast<i64>(w[i]) * x;
+      in[i] = t->stretch[counter_p12(*cur[i])];
+      sum += static_cast<i64>(w[i]) * in[i];
     }
     in[prm.n] = 256;
     sum += static_cast<i64>(w[prm.n]) * 256;
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;
-    dot = d;
     pmix = squash(d);
-    // SSE: interpolate between the two cells around stretch(pmix).
-    int s = (d + 2048) * 4; // 0..16380 -> cells of 512
-    a0 = s >> 9;
-    aw = s & 511;
-    int c1 = static_cast<int>(hist & 255);
-    const u16* r0 = t->apm0[c0];
-    const u16* r1 = t->apm1[c1 << 8 | c0];
-    int q0 = (r0[a0] * (512 - aw) + r0[a0 + 1] * aw) >> 13;
-    int q1 = (r1[a0] * (512 - aw) + r1[a0 + 1] * aw) >> 13;
-    int pr = (pmix * 2 + q0 + q1) >> 2;
+    // SSE: interpolate between the two cells around stretch(pmix), then
+    // average with the mixer (1:3; 1:1 and the mixer alone cost more).
+    int s = (d + 2048) * 4; // 0..16380: 32 cells of 512
+    apm_at = s >> 9;
+    apm_w = s & 511;
+    const u16* r = apm_row();
+    int q = (r[apm_at] * (512 - apm_w) + r[apm_at + 1] * apm_w) >> 13;
+    int pr = (pmix + q * 3) >> 2;
     if (pr < 1) pr = 1;
     if (pr > 4095) pr = 4095;
     return pr;
   }
 
   void update(int y) {
-    // Counters.
-    for (int i = 0; i < prm.n; ++i) {
-      u32 s = *cur[i];
-      int p16 = static_cast<int>((s >> 16) ^ 0x8000);
-      int n = static_cast<int>(s & 255);
-      p16 += (((y << 16) - y - p16) * 2) / (2 * n + 3);
-      if (n < prm.limit) ++n;
-      *cur[i] = static_cast<u32>(p16 ^ 0x8000) << 16 | static_cast<u32>(n);
-    }
-    // Mixer.
+    for (int i = 0; i < prm.n; ++i)
+      counter_update(*cur[i], y, prm.limit);
     int err = ((y << 12) - pmix) * prm.rate;
-    int* w = t->weight[c0];
+    int* w = t->weight[mix_select()];
     for (int i = 0; i <= prm.n; ++i)
       w[i] += (in[i] * err) >> 14;
-    // SSE: move the nearer cell toward the bit.
-    int c1 = static_cast<int>(hist & 255);
-    int k = a0 + (aw >> 8);
-    u16* r0 = &t->apm0[c0][k];
-    u16* r1 = &t->apm1[c1 << 8 | c0][k];
-    int target = (y << 16) - y;
-    *r0 = static_cast<u16>(*r0 + ((target - *r0) >> 6));
-    *r1 = static_cast<u16>(*r1 + ((target - *r1) >> 6));
-    // Next bit.
+    // SSE: move the nearer cell toward the bit (rate 1/64).
+    u16* r = apm_row() + apm_at + (apm_w >> 8);
+    *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 6));
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
       hist = hist << 8 | (c0 & 255);
+      x86.step(c0 & 255);
       c0 = 1;
       ++pos;
       rehash();
     }
   }
 };
-
-// The call transform: E8/E9 followed by a rel32 becomes E8/E9 followed by
-// (rel32 + offset of the next instruction), so calls to one function carry
-// the same four bytes. Which bytes are opcodes depends only on bytes the
-// transform leaves alone, so `forward` false undoes it exactly.
-inline void call_transform(u8* b, u32 n, bool forward) {
-  for (u32 i = 0; i + 5 <= n;) {
-    if ((b[i] & 0xFE) == 0xE8) {
-      u32 v = b[i + 1] | b[i + 2] << 8 | b[i + 3] << 16 | static_cast<u32>(b[i + 4]) << 24;
-      v = forward ? v + i + 5 : v - (i + 5);
-      b[i + 1] = static_cast<u8>(v);
-      b[i + 2] = static_cast<u8>(v >> 8);
-      b[i + 3] = static_cast<u8>(v >> 16);
-      b[i + 4] = static_cast<u8>(v >> 24);
-      i += 5;
-    } else {
-      ++i;
-    }
-  }
-}
 
 // Header bytes for `p`.
 inline u32 header_bytes(const Params& p) { return 4 + 2 * p.n; }

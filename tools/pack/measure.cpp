@@ -1,6 +1,6 @@
 // measure.cpp - pack-measure: the codec's bytes on given files (concatenated),
 // with a round-trip check. Usage:
-//   pack-measure FILE... [--limit N] [--rate N] [--flags N] [--masks m,m,...]
+//   pack-measure FILE... [--limit N] [--rate N] [--flags N] [--masks m,m,...] [--search PASSES]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   using namespace rt64k::pack;
   model::Params prm = default_params();
   std::vector<unsigned char> data;
+  int search = 0;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto value = [&]() -> long {
@@ -39,7 +40,9 @@ int main(int argc, char** argv) {
       }
       return std::strtol(argv[++i], nullptr, 0);
     };
-    if (a == "--limit")
+    if (a == "--search")
+      search = static_cast<int>(value());
+    else if (a == "--limit")
       prm.limit = static_cast<unsigned char>(value());
     else if (a == "--rate")
       prm.rate = static_cast<unsigned char>(value());
@@ -67,6 +70,47 @@ int main(int argc, char** argv) {
   }
   const unsigned size = static_cast<unsigned>(data.size());
   std::vector<unsigned char> work(kWorkBytes), packed(model::max_encoded(size) + 64, 0);
+  if (search) {
+    // Coordinate descent over the models' masks (Crinkler's approach):
+    // each slot in turn takes the candidate mask that gives the fewest bytes.
+    auto cost = [&](const model::Params& p) {
+      std::fill(work.begin(), work.end(), 0);
+      return encode_with(p, data.data(), size, packed.data(), static_cast<unsigned>(packed.size()),
+                         work.data());
+    };
+    std::vector<unsigned short> cands;
+    for (unsigned m = 0; m < 256; ++m)
+      cands.push_back(static_cast<unsigned short>(m));
+    for (unsigned m = 0; m < 256; ++m)
+      if (__builtin_popcount(m) <= 2)
+        for (unsigned extra :
+             {model::kMaskColumn, model::kMaskX86Op, model::kMaskX86Modrm, model::kMaskX86Prev,
+              model::kMaskX86Op | model::kMaskX86Modrm, model::kMaskX86Op | model::kMaskX86Prev})
+          cands.push_back(static_cast<unsigned short>(m | extra));
+    unsigned best = cost(prm);
+    std::printf("start %u\n", best);
+    for (int pass = 0; pass < search; ++pass) {
+      for (int slot = 0; slot < model::kMaxModels; ++slot) {
+        if (slot > prm.n) break;
+        model::Params p = prm;
+        if (slot == prm.n) p.n = static_cast<unsigned char>(prm.n + 1);
+        for (unsigned short m : cands) {
+          p.mask[slot] = m;
+          unsigned c = cost(p);
+          if (c < best) {
+            best = c;
+            prm = p;
+          }
+        }
+        std::printf("pass %d slot %d: %u bytes, masks", pass, slot, best);
+        for (int i = 0; i < prm.n; ++i)
+          std::printf("%s%x", i ? "," : " ", prm.mask[i]);
+        std::printf("\n");
+        std::fflush(stdout);
+      }
+    }
+    std::fill(work.begin(), work.end(), 0);
+  }
   auto t0 = std::chrono::steady_clock::now();
   unsigned n = encode_with(prm, data.data(), size, packed.data(),
                            static_cast<unsigned>(packed.size()), work.data());

@@ -16,8 +16,6 @@ void decode(const unsigned char* in, unsigned char* out, unsigned size, void* wo
   prm.n = static_cast<u8>(next());
   if (prm.n < 1 || prm.n > kMaxModels) prm.n = 1; // damaged header: still bounded
   prm.flags = static_cast<u8>(next());
-  prm.limit = static_cast<u8>(next());
-  prm.rate = static_cast<u8>(next());
   for (int i = 0; i < prm.n; ++i) {
     u32 lo = next();
     prm.mask[i] = static_cast<u16>(lo | next() << 8);

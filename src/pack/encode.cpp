@@ -23,8 +23,6 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
   };
   put(prm.n);
   put(prm.flags);
-  put(prm.limit);
-  put(prm.rate);
   for (int i = 0; i < prm.n; ++i) {
     put(prm.mask[i] & 255u);
     put(prm.mask[i] >> 8);
@@ -71,8 +69,6 @@ Params default_params() {
   for (int i = 0; i < p.n; ++i)
     p.mask[i] = masks[i];
   p.flags = kFlagBranch | kFlagRip;
-  p.limit = 255;
-  p.rate = 16;
   return p;
 }
 

@@ -11,8 +11,9 @@
 // - each model as a mask of which of the last 8 bytes form its context, the
 //   encoder choosing the masks and storing them in the header: Crinkler
 //   (Blueberry & Mentor, "Crinkler" notes and Assembly 2007 seminar);
-// - counters whose learning rate falls as 1/(n+1.5) up to a limit: lpaq1's
-//   StateMap adaptation rate;
+// - counters as a pair of bit counts whose opposite count is halved on
+//   each bit: paq8's nonstationary counters (Mahoney, "Adaptive weighing of
+//   context models for lossless data compression", 2005);
 // - the E8/E9 call transform (call/jmp rel32 -> absolute): paq8's exe
 //   model and the BCJ filter of xz/LZMA; kkrunchy (ryg) notes that relative
 //   call targets compress badly because the same target gets other bytes.
@@ -57,32 +58,30 @@ inline int counter_p12(u16 s) {
   int n0 = s & 255, n1 = s >> 8;
   return ((4 * n1 + 1) * 4096) / (4 * (n0 + n1) + 2);
 }
-inline void counter_update(u16& s, int y, int limit) {
+inline void counter_update(u16& s, int y) {
   int n0 = s & 255, n1 = s >> 8;
   if (y) {
-    if (n1 < limit) ++n1;
+    if (n1 < 255) ++n1;
     if (n0 > 2) n0 = n0 / 2 + 1;
   } else {
-    if (n0 < limit) ++n0;
+    if (n0 < 255) ++n0;
     if (n1 > 2) n1 = n1 / 2 + 1;
   }
   s = static_cast<u16>(n1 << 8 | n0);
 }
 
 // The parameters the encoder chooses and stores in the stream's header:
-// [n][flags][limit][rate][mask lo, mask hi] * n.
+// [n][flags][mask lo, mask hi] * n.
 struct Params {
   u8 n;     // models in use, 1..kMaxModels
   u8 flags; // kFlag*
-  u8 limit; // counters' count limit (at most 255)
-  u8 rate;  // mixer learning rate: weight += input * err * rate >> 14
   u16 mask[kMaxModels];
 };
 
 struct Tables {
-  u16 slot[kMaxModels][kSlots];   // counters
-  int weight[256][kMixInputs];    // mixer weights (16.16), by mix_select()
-  u16 apm[128 * 256 * kApmCells]; // SSE by the x86 role and c0
+  u16 slot[kMaxModels][kSlots];        // counters
+  int weight[256 + 65536][kMixInputs]; // mixer weights (16.16): two sets, see mix_sets()
+  u16 apm[128 * 256 * kApmCells];      // SSE by the x86 role and c0
   short stretch[4096];
 };
 
@@ -101,8 +100,10 @@ inline int squash(int d) {
 
 // x86-64 opcode classes for the instruction parse: one-byte opcodes in
 // nibbles (bit 3: a ModRM byte follows; bits 0-2: the immediate, 0 none,
-// 1 imm8, 2 imm16/32, 3 imm16, 4 imm16+imm8, 5 moffs64, 6 imm16/32/64,
-// 7 a prefix); 0F xx in 2-bit fields (0 ModRM, 1 nothing, 2 rel32,
+// 1 imm8, 2 imm32, 3 imm16, 4 imm16+imm8, 5 moffs64, 6 imm32 (MOV r, imm:
+// imm64 with REX.W, which the parse does not track: 6 bytes on intro.exe
+// for ~20 bytes of decoder; nor the 66 prefix's imm16: 10 bytes), 7 a
+// prefix); 0F xx in 2-bit fields (0 ModRM, 1 nothing, 2 rel32,
 // 3 ModRM + imm8). From the Intel SDM's opcode maps (vol. 2, appendix A).
 inline const u8 kOneByte[128] = {
     0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00,
@@ -128,13 +129,13 @@ enum : u8 { kOp, kOp0F, kOp38, kOp3A, kModrm, kSib, kOperand };
 // parse instructions to give operand bytes their own contexts). In data it
 // parses nonsense, consistently on both sides.
 struct X86 {
-  u32 role, left, op, prev, modrm, imm, rexw, o16;
+  u32 role, left, op, prev, modrm, imm;
   u32 rel; // the next 4 bytes are a rel32 field: kFlagBranch or kFlagRip
 
   void operands(u32 n) {
     left = n;
     role = kOperand;
-    if (n == 0) role = rexw = o16 = 0;
+    if (n == 0) role = kOp;
   }
 
   void step(u32 b) {
@@ -142,7 +143,7 @@ struct X86 {
     u32 r = role;
     rel = 0;
     if (r == kOperand) {
-      if (--left == 0) role = rexw = o16 = 0;
+      if (--left == 0) role = kOp;
       return;
     }
     if (r >= kModrm) {
@@ -166,12 +167,8 @@ struct X86 {
         return;
       }
       u32 c = kOneByte[b >> 1] >> (b & 1) * 4 & 15, code = c & 7;
-      if (code == 7) { // a prefix
-        if ((b & 0xF0) == 0x40) rexw = b & 8;
-        if (b == 0x66) o16 = 1;
-        return;
-      }
-      n = code == 6 && rexw ? 8 : (code == 2 || code == 6) && o16 ? 2 : imm_bytes[code];
+      if (code == 7) return; // a prefix
+      n = imm_bytes[code];
       has_modrm = c & 8;
       if ((b | 1) == 0xE9 && n == 4) rel = kFlagBranch;
     } else if (r == kOp0F) {
@@ -251,25 +248,29 @@ struct Predictor {
     }
   }
 
-  // The mixer's weight set: the x86 role, the bit's position in the byte
-  // and the operand byte's index (tuned: 16,480 bytes against 17,173 for
-  // weights by c0 alone).
-  int mix_select() const {
-    return static_cast<int>(x86.role << 3 | (31 - __builtin_clz(c0)) | (x86.left & 3) << 6);
+  // The mixer's two weight sets, whose sums weigh the inputs: one by the
+  // x86 role, the bit's position in the byte and the operand byte's index,
+  // one by the role, the operand byte's index and the last byte (tuned:
+  // 16,825 bytes with the first alone, 16,534 with both; the first alone
+  // by c0 gave 17,173 on an older model).
+  int* weights_a() const {
+    return t->weight[x86.role << 3 | (31 - __builtin_clz(c0)) | (x86.left & 3) << 6];
   }
+  int* weights_b() const { return t->weight[256 + ((hist & 255) << 8 | x86.role | x86.left << 3)]; }
   u16* apm_row() const { return &t->apm[((x86.role | x86.left << 3) << 8 | c0) * kApmCells]; }
 
   int p() {
     i64 sum = 0;
-    const int* w = t->weight[mix_select()];
+    const int* w = weights_a();
+    const int* v = weights_b();
     for (int i = 0; i < prm.n; ++i) {
       u32 h = (hash[i] + c0 * 0x6F4F2A35u) * 0x9E3779B1u;
       cur[i] = &t->slot[i][h >> (32 - kSlotBits)];
       in[i] = t->stretch[counter_p12(*cur[i])];
-      sum += static_cast<i64>(w[i]) * in[i];
+      sum += static_cast<i64>(w[i] + v[i]) * in[i];
     }
     in[prm.n] = 256;
-    sum += static_cast<i64>(w[prm.n]) * 256;
+    sum += static_cast<i64>(w[prm.n] + v[prm.n]) * 256;
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;
@@ -289,11 +290,14 @@ struct Predictor {
 
   void update(int y) {
     for (int i = 0; i < prm.n; ++i)
-      counter_update(*cur[i], y, prm.limit);
-    int err = ((y << 12) - pmix) * prm.rate;
-    int* w = t->weight[mix_select()];
-    for (int i = 0; i <= prm.n; ++i)
+      counter_update(*cur[i], y);
+    int err = ((y << 12) - pmix) * 10; // the learning rate (tuned: 8-12 best)
+    int* w = weights_a();
+    int* v = weights_b();
+    for (int i = 0; i <= prm.n; ++i) {
       w[i] += (in[i] * err) >> 14;
+      v[i] += (in[i] * err) >> 14;
+    }
     // SSE: move the nearer cell toward the bit (rate 1/64).
     u16* r = apm_row() + apm_at + (apm_w >> 8);
     *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 6));
@@ -309,11 +313,11 @@ struct Predictor {
 };
 
 // Header bytes for `p`.
-inline u32 header_bytes(const Params& p) { return 4 + 2 * p.n; }
+inline u32 header_bytes(const Params& p) { return 2 + 2 * p.n; }
 
 // decode() reads at most this many bytes of its input for `size` output
 // bytes, whatever they hold (reads past it see 0); encode() fails rather
 // than write more.
-inline u32 max_encoded(u32 size) { return 4 + 2 * kMaxModels + size + (size >> 4) + 16; }
+inline u32 max_encoded(u32 size) { return 2 + 2 * kMaxModels + size + (size >> 4) + 16; }
 
 } // namespace rt64k::pack::model

@@ -125,6 +125,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::fill(work.begin(), work.end(), 0);
+  std::fill(packed.begin() + n, packed.end(), 0xEE); // decode reads the n bytes only
   std::vector<unsigned char> back(size);
   auto t2 = std::chrono::steady_clock::now();
   decode(packed.data(), back.data(), size, work.data());

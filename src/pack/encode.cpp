@@ -21,14 +21,16 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
     else
       overflow = true;
   };
-  put(prm.n);
-  put(prm.flags);
+  if (prm.n < 1 || prm.n > kMaxModels) return 0;
+  u8 header[2 + 2 * kMaxModels] = {prm.n, prm.flags};
   for (int i = 0; i < prm.n; ++i) {
-    put(prm.mask[i] & 255u);
-    put(prm.mask[i] >> 8);
+    header[2 + 2 * i] = static_cast<u8>(prm.mask[i]);
+    header[3 + 2 * i] = static_cast<u8>(prm.mask[i] >> 8);
   }
+  for (u32 i = 0; i < header_bytes(prm); ++i)
+    put(header[i]);
   Predictor m;
-  m.init(work, prm);
+  m.init(work, header);
   u32 x1 = 0, x2 = 0xFFFFFFFFu;
   for (u32 k = 0; k < size && !overflow; ++k) {
     if ((m.x86.rel & prm.flags) && k + 4 <= size) { // a rel32 field: code it as absolute

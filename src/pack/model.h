@@ -48,26 +48,16 @@ constexpr u32 kMaskX86Prev = 1u << 11;  // x86 parse: the previous instruction's
 constexpr u8 kFlagBranch = 1; // CALL/JMP rel32 (E8, E9) and Jcc rel32 (0F 80-8F)
 constexpr u8 kFlagRip = 2;    // RIP-relative disp32 (ModRM mod 00, r/m 101)
 
-// A counter: n0 | n1 << 8, the zeros and ones seen in its context, the
-// opposite count halved (kept above 1) on each bit so that it follows
+// A counter: two bytes n[0], n[1], the zeros and ones seen in its context
+// (at most 255), the opposite count halved (kept above 1) on each bit so that it follows
 // change (paq8's nonstationary counters). P(1) = (4 n1 + 1) / (4 n0 + 4 n1 + 2):
 // a context seen once or twice is already trusted (tuned on intro.exe:
 // factor 4 beat 2, 3 and 6; the counts beat 16-bit probabilities adapting
 // at 1/(n+1.5) by 200 bytes).
-inline int counter_p12(u16 s) {
-  int n0 = s & 255, n1 = s >> 8;
-  return ((4 * n1 + 1) * 4096) / (4 * (n0 + n1) + 2);
-}
-inline void counter_update(u16& s, int y) {
-  int n0 = s & 255, n1 = s >> 8;
-  if (y) {
-    if (n1 < 255) ++n1;
-    if (n0 > 2) n0 = n0 / 2 + 1;
-  } else {
-    if (n0 < 255) ++n0;
-    if (n1 > 2) n1 = n1 / 2 + 1;
-  }
-  s = static_cast<u16>(n1 << 8 | n0);
+inline int counter_p12(const u8* n) { return ((4 * n[1] + 1) * 4096) / (4 * (n[0] + n[1]) + 2); }
+inline void counter_update(u8* n, int y) {
+  if (n[y] < 255) ++n[y];
+  if (n[!y] > 2) n[!y] = static_cast<u8>(n[!y] / 2 + 1);
 }
 
 // The parameters the encoder chooses and stores in the stream's header:
@@ -79,7 +69,7 @@ struct Params {
 };
 
 struct Tables {
-  u16 slot[kMaxModels][kSlots];        // counters
+  u8 slot[kMaxModels][kSlots][2];      // counters
   int weight[256 + 65536][kMixInputs]; // mixer weights (16.16): two sets, see mix_sets()
   u16 apm[128 * 256 * kApmCells];      // SSE by the x86 role and c0
   short stretch[4096];
@@ -160,38 +150,34 @@ struct X86 {
       operands((mod == 1 ? 1 : mod == 2 || (mod == 0 && base == 5) ? 4 : 0) + imm);
       return;
     }
-    u32 has_modrm = 1, n = 0;
+    u32 c; // the opcode's class as in kOneByte
     if (r == kOp) {
       if (b == 0x0F) {
         role = kOp0F;
         return;
       }
-      u32 c = kOneByte[b >> 1] >> (b & 1) * 4 & 15, code = c & 7;
-      if (code == 7) return; // a prefix
-      n = imm_bytes[code];
-      has_modrm = c & 8;
-      if ((b | 1) == 0xE9 && n == 4) rel = kFlagBranch;
+      c = kOneByte[b >> 1] >> (b & 1) * 4 & 15;
+      if (c == 7) return; // a prefix
     } else if (r == kOp0F) {
       if ((b | 2) == 0x3A) {
         role = b == 0x38 ? kOp38 : kOp3A;
         return;
       }
-      u32 c = kTwoByte[b >> 2] >> (b & 3) * 2 & 3;
-      has_modrm = c != 1 && c != 2;
-      n = c == 2 ? 4 : c == 3;
-      if (c == 2) rel = kFlagBranch;
+      static const u8 two_byte_class[4] = {8, 0, 2, 9};
+      c = two_byte_class[kTwoByte[b >> 2] >> (b & 3) * 2 & 3];
       b |= 0x100;
     } else {
-      n = r == kOp3A;
+      c = r == kOp3A ? 9 : 8;
       b |= r << 8;
     }
+    rel = (b | 1) == 0xE9 || (b & 0x1F0) == 0x180 ? kFlagBranch : 0; // CALL, JMP, Jcc rel32
     prev = op;
     op = b;
-    imm = n;
-    if (has_modrm)
+    imm = imm_bytes[c & 7];
+    if (c & 8)
       role = kModrm;
     else
-      operands(n);
+      operands(imm);
   }
 };
 
@@ -199,21 +185,31 @@ struct X86 {
 // update(bit) learns it. Both sides call them in the same order.
 struct Predictor {
   Tables* t;
-  Params prm;
+  int n;           // models in use
+  u32 flags;       // kFlag*
+  const u8* masks; // n little-endian 16-bit masks (the header's)
   u32 hash[kMaxModels];
-  u16* cur[kMaxModels];
+  u8* cur[kMaxModels];
   int in[kMixInputs];
   X86 x86;
-  u64 hist;   // the last 8 bytes, byte -1 lowest
-  u32 c0;     // 1, then the bits of the current byte behind a leading 1
-  u32 pos;    // bytes done
+  u64 hist; // the last 8 bytes, byte -1 lowest
+  u32 c0;   // 1, then the bits of the current byte behind a leading 1
+  u32 pos;  // bytes done
+  int* wa;  // the mixer's weight sets in use
+  int* wb;
+  u16* apm;   // the SSE row in use
   int pmix;   // mixer output (12 bits)
   int apm_at; // the lower of the two APM cells in use
   int apm_w;  // the upper one's interpolation weight (0..511)
 
-  void init(void* work, const Params& p) {
+  // `header`: the stream's header, [n][flags][mask lo, mask hi] * n; a
+  // damaged n counts as 1.
+  void init(void* work, const u8* header) {
     t = static_cast<Tables*>(work);
-    prm = p;
+    n = header[0];
+    if (n < 1 || n > kMaxModels) n = 1;
+    flags = header[1];
+    masks = header + 2;
     hist = 0;
     x86 = X86{};
     c0 = 1;
@@ -235,8 +231,8 @@ struct Predictor {
   }
 
   void rehash() {
-    for (int i = 0; i < prm.n; ++i) {
-      u32 m = prm.mask[i];
+    for (int i = 0; i < n; ++i) {
+      u32 m = masks[2 * i] | masks[2 * i + 1] << 8;
       u32 h = (m + 1) * 0x9E3779B1u;
       for (int j = 0; j < 8; ++j)
         if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
@@ -261,16 +257,16 @@ struct Predictor {
 
   int p() {
     i64 sum = 0;
-    const int* w = weights_a();
-    const int* v = weights_b();
-    for (int i = 0; i < prm.n; ++i) {
+    int* w = wa = weights_a();
+    int* v = wb = weights_b();
+    for (int i = 0; i < n; ++i) {
       u32 h = (hash[i] + c0 * 0x6F4F2A35u) * 0x9E3779B1u;
-      cur[i] = &t->slot[i][h >> (32 - kSlotBits)];
-      in[i] = t->stretch[counter_p12(*cur[i])];
+      cur[i] = t->slot[i][h >> (32 - kSlotBits)];
+      in[i] = t->stretch[counter_p12(cur[i])];
       sum += static_cast<i64>(w[i] + v[i]) * in[i];
     }
-    in[prm.n] = 256;
-    sum += static_cast<i64>(w[prm.n] + v[prm.n]) * 256;
+    in[n] = 256;
+    sum += static_cast<i64>(w[n] + v[n]) * 256;
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;
@@ -280,7 +276,7 @@ struct Predictor {
     int s = (d + 2048) * 4; // 0..16380: 32 cells of 512
     apm_at = s >> 9;
     apm_w = s & 511;
-    const u16* r = apm_row();
+    const u16* r = apm = apm_row();
     int q = (r[apm_at] * (512 - apm_w) + r[apm_at + 1] * apm_w) >> 13;
     int pr = (pmix + q * 3) >> 2;
     if (pr < 1) pr = 1;
@@ -289,17 +285,15 @@ struct Predictor {
   }
 
   void update(int y) {
-    for (int i = 0; i < prm.n; ++i)
-      counter_update(*cur[i], y);
+    for (int i = 0; i < n; ++i)
+      counter_update(cur[i], y);
     int err = ((y << 12) - pmix) * 10; // the learning rate (tuned: 8-12 best)
-    int* w = weights_a();
-    int* v = weights_b();
-    for (int i = 0; i <= prm.n; ++i) {
-      w[i] += (in[i] * err) >> 14;
-      v[i] += (in[i] * err) >> 14;
+    for (int i = 0; i <= n; ++i) {
+      wa[i] += (in[i] * err) >> 14;
+      wb[i] += (in[i] * err) >> 14;
     }
     // SSE: move the nearer cell toward the bit (rate 1/64).
-    u16* r = apm_row() + apm_at + (apm_w >> 8);
+    u16* r = apm + apm_at + (apm_w >> 8);
     *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 6));
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {

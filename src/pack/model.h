@@ -6,7 +6,7 @@
 // - the binary arithmetic coder with 12-bit probabilities, carry-less, a
 //   32-bit range that shifts out a byte when its top bytes agree: Matt
 //   Mahoney's lpaq1 (2007) Encoder/Decoder;
-// - the squash() interpolation table, stretch() as its inverse, the logistic
+// - squash() (the logistic function in 12 bits), stretch() as its inverse, the logistic
 //   mixer (weights trained by err * input) and the APM/SSE stage: lpaq1;
 // - each model as a mask of which of the last 8 bytes form its context, the
 //   encoder choosing the masks and storing them in the header: Crinkler
@@ -73,20 +73,8 @@ struct Tables {
   int weight[256 + 65536][kMixInputs]; // mixer weights (16.16): two sets, see mix_sets()
   u16 apm[128 * 256 * kApmCells];      // SSE by the x86 role and c0
   short stretch[4096];
+  short squash[4095]; // squash(d) at d + 2047
 };
-
-// squash(d) = 4096 / (1 + e^(-d/256)), d in stretch units, by interpolation
-// of 33 points (lpaq1's table).
-inline int squash(int d) {
-  static const short t[33] = {1,    2,    3,    6,    10,   16,   27,   45,   73,   120,  194,
-                              310,  488,  747,  1101, 1546, 2047, 2549, 2994, 3348, 3607, 3785,
-                              3901, 3975, 4022, 4050, 4068, 4079, 4085, 4089, 4092, 4093, 4094};
-  if (d > 2047) return 4095;
-  if (d < -2047) return 1;
-  int w = d & 127;
-  d = (d >> 7) + 16;
-  return (t[d] * (128 - w) + t[d + 1] * w + 64) >> 7;
-}
 
 // x86-64 opcode classes for the instruction parse: one-byte opcodes in
 // nibbles (bit 3: a ModRM byte follows; bits 0-2: the immediate, 0 none,
@@ -204,6 +192,8 @@ struct Predictor {
 
   // `header`: the stream's header, [n][flags][mask lo, mask hi] * n; a
   // damaged n counts as 1.
+  int squash(int d) const { return t->squash[(d < -2047 ? -2047 : d > 2047 ? 2047 : d) + 2047]; }
+
   void init(void* work, const u8* header) {
     t = static_cast<Tables*>(work);
     n = header[0];
@@ -214,10 +204,21 @@ struct Predictor {
     x86 = X86{};
     c0 = 1;
     pos = 0;
+    // squash(d) = 4096 / (1 + e^(-d/256)) for d in -2047..2047, stretch
+    // units (lpaq1's squash, which interpolates 33 points; here e^(-d/256)
+    // steps down from e^(2047/256) in 16.16 fixed point with rounding, for
+    // d <= 0, and squash(-d) = 4096 - squash(d); integers only).
+    u64 e = 194598426; // e^(2047/256) * 2^16
+    for (int i = 0; i < 2048; ++i) {
+      int v = static_cast<int>((1u << 28) / (65536 + static_cast<u32>(e)));
+      t->squash[i] = static_cast<short>(v);
+      t->squash[4094 - i] = static_cast<short>(4096 - v);
+      e = (e * 4278222805u + (1u << 31)) >> 32; // * e^(-1/256)
+    }
     // stretch = squash^-1 over 0..4095.
     int pi = 0;
     for (int x = -2047; x <= 2047; ++x) {
-      int v = squash(x);
+      int v = t->squash[x + 2047];
       for (int j = pi; j <= v; ++j)
         t->stretch[j] = static_cast<short>(x);
       pi = v + 1;
@@ -270,7 +271,7 @@ struct Predictor {
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;
-    pmix = squash(d);
+    pmix = t->squash[d + 2047];
     // SSE: interpolate between the two cells around stretch(pmix), then
     // average with the mixer (1:3; 1:1 and the mixer alone cost more).
     int s = (d + 2048) * 4; // 0..16380: 32 cells of 512

@@ -10,26 +10,16 @@ static_assert(sizeof(model::Tables) <= kWorkBytes, "the model tables exceed kWor
 void decode(const unsigned char* in, unsigned char* out, unsigned size, void* work) {
   using namespace model;
   const u32 bound = max_encoded(size);
-  u32 at = 0;
-  auto next = [&]() -> u32 { return at < bound ? in[at++] : 0u; };
-  Params prm;
-  prm.n = static_cast<u8>(next());
-  if (prm.n < 1 || prm.n > kMaxModels) prm.n = 1; // damaged header: still bounded
-  prm.flags = static_cast<u8>(next());
-  prm.limit = static_cast<u8>(next());
-  prm.rate = static_cast<u8>(next());
-  for (int i = 0; i < prm.n; ++i) {
-    u32 lo = next();
-    prm.mask[i] = static_cast<u16>(lo | next() << 8);
-  }
   Predictor m;
-  m.init(work, prm);
+  m.init(work, in); // the header: at most 2 + 2 * kMaxModels bytes, within bound
+  u32 at = 2 + 2 * static_cast<u32>(m.n);
+  auto next = [&]() -> u32 { return at < bound ? in[at++] : 0u; };
   u32 x1 = 0, x2 = 0xFFFFFFFFu, x = 0;
   for (int i = 0; i < 4; ++i)
     x = x << 8 | next();
   u32 field = 0; // 1 + the offset of a rel32 field being decoded
   for (u32 k = 0; k < size; ++k) {
-    if ((m.x86.rel & prm.flags) && k + 4 <= size) field = k + 1;
+    if ((m.x86.rel & m.flags) && k + 4 <= size) field = k + 1;
     u32 c = 1;
     while (c < 256) {
       u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(m.p());

@@ -6,13 +6,14 @@
 // - the binary arithmetic coder with 12-bit probabilities, carry-less, a
 //   32-bit range that shifts out a byte when its top bytes agree: Matt
 //   Mahoney's lpaq1 (2007) Encoder/Decoder;
-// - the squash() interpolation table, stretch() as its inverse, the logistic
+// - squash() (the logistic function in 12 bits), stretch() as its inverse, the logistic
 //   mixer (weights trained by err * input) and the APM/SSE stage: lpaq1;
 // - each model as a mask of which of the last 8 bytes form its context, the
 //   encoder choosing the masks and storing them in the header: Crinkler
 //   (Blueberry & Mentor, "Crinkler" notes and Assembly 2007 seminar);
-// - counters whose learning rate falls as 1/(n+1.5) up to a limit: lpaq1's
-//   StateMap adaptation rate;
+// - counters as a pair of bit counts whose opposite count is halved on
+//   each bit: paq8's nonstationary counters (Mahoney, "Adaptive weighing of
+//   context models for lossless data compression", 2005);
 // - the E8/E9 call transform (call/jmp rel32 -> absolute): paq8's exe
 //   model and the BCJ filter of xz/LZMA; kkrunchy (ryg) notes that relative
 //   call targets compress badly because the same target gets other bytes.
@@ -47,62 +48,40 @@ constexpr u32 kMaskX86Prev = 1u << 11;  // x86 parse: the previous instruction's
 constexpr u8 kFlagBranch = 1; // CALL/JMP rel32 (E8, E9) and Jcc rel32 (0F 80-8F)
 constexpr u8 kFlagRip = 2;    // RIP-relative disp32 (ModRM mod 00, r/m 101)
 
-// A counter: n0 | n1 << 8, the zeros and ones seen in its context, the
-// opposite count halved (kept above 1) on each bit so that it follows
+// A counter: two bytes n[0], n[1], the zeros and ones seen in its context
+// (at most 255), the opposite count halved (kept above 1) on each bit so that it follows
 // change (paq8's nonstationary counters). P(1) = (4 n1 + 1) / (4 n0 + 4 n1 + 2):
 // a context seen once or twice is already trusted (tuned on intro.exe:
 // factor 4 beat 2, 3 and 6; the counts beat 16-bit probabilities adapting
 // at 1/(n+1.5) by 200 bytes).
-inline int counter_p12(u16 s) {
-  int n0 = s & 255, n1 = s >> 8;
-  return ((4 * n1 + 1) * 4096) / (4 * (n0 + n1) + 2);
-}
-inline void counter_update(u16& s, int y, int limit) {
-  int n0 = s & 255, n1 = s >> 8;
-  if (y) {
-    if (n1 < limit) ++n1;
-    if (n0 > 2) n0 = n0 / 2 + 1;
-  } else {
-    if (n0 < limit) ++n0;
-    if (n1 > 2) n1 = n1 / 2 + 1;
-  }
-  s = static_cast<u16>(n1 << 8 | n0);
+inline int counter_p12(const u8* n) { return ((4 * n[1] + 1) * 4096) / (4 * (n[0] + n[1]) + 2); }
+inline void counter_update(u8* n, int y) {
+  if (n[y] < 255) ++n[y];
+  if (n[!y] > 2) n[!y] = static_cast<u8>(n[!y] / 2 + 1);
 }
 
 // The parameters the encoder chooses and stores in the stream's header:
-// [n][flags][limit][rate][mask lo, mask hi] * n.
+// [n][flags][mask lo, mask hi] * n.
 struct Params {
   u8 n;     // models in use, 1..kMaxModels
   u8 flags; // kFlag*
-  u8 limit; // counters' count limit (at most 255)
-  u8 rate;  // mixer learning rate: weight += input * err * rate >> 14
   u16 mask[kMaxModels];
 };
 
 struct Tables {
-  u16 slot[kMaxModels][kSlots];   // counters
-  int weight[256][kMixInputs];    // mixer weights (16.16), by mix_select()
-  u16 apm[128 * 256 * kApmCells]; // SSE by the x86 role and c0
+  u8 slot[kMaxModels][kSlots][2];      // counters
+  int weight[256 + 65536][kMixInputs]; // mixer weights (16.16): two sets, see mix_sets()
+  u16 apm[128 * 256 * kApmCells];      // SSE by the x86 role and c0
   short stretch[4096];
+  short squash[4095]; // squash(d) at d + 2047
 };
-
-// squash(d) = 4096 / (1 + e^(-d/256)), d in stretch units, by interpolation
-// of 33 points (lpaq1's table).
-inline int squash(int d) {
-  static const short t[33] = {1,    2,    3,    6,    10,   16,   27,   45,   73,   120,  194,
-                              310,  488,  747,  1101, 1546, 2047, 2549, 2994, 3348, 3607, 3785,
-                              3901, 3975, 4022, 4050, 4068, 4079, 4085, 4089, 4092, 4093, 4094};
-  if (d > 2047) return 4095;
-  if (d < -2047) return 1;
-  int w = d & 127;
-  d = (d >> 7) + 16;
-  return (t[d] * (128 - w) + t[d + 1] * w + 64) >> 7;
-}
 
 // x86-64 opcode classes for the instruction parse: one-byte opcodes in
 // nibbles (bit 3: a ModRM byte follows; bits 0-2: the immediate, 0 none,
-// 1 imm8, 2 imm16/32, 3 imm16, 4 imm16+imm8, 5 moffs64, 6 imm16/32/64,
-// 7 a prefix); 0F xx in 2-bit fields (0 ModRM, 1 nothing, 2 rel32,
+// 1 imm8, 2 imm32, 3 imm16, 4 imm16+imm8, 5 moffs64, 6 imm32 (MOV r, imm:
+// imm64 with REX.W, which the parse does not track: 6 bytes on intro.exe
+// for ~20 bytes of decoder; nor the 66 prefix's imm16: 10 bytes), 7 a
+// prefix); 0F xx in 2-bit fields (0 ModRM, 1 nothing, 2 rel32,
 // 3 ModRM + imm8). From the Intel SDM's opcode maps (vol. 2, appendix A).
 inline const u8 kOneByte[128] = {
     0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00, 0x88, 0x88, 0x21, 0x00,
@@ -128,13 +107,13 @@ enum : u8 { kOp, kOp0F, kOp38, kOp3A, kModrm, kSib, kOperand };
 // parse instructions to give operand bytes their own contexts). In data it
 // parses nonsense, consistently on both sides.
 struct X86 {
-  u32 role, left, op, prev, modrm, imm, rexw, o16;
+  u32 role, left, op, prev, modrm, imm;
   u32 rel; // the next 4 bytes are a rel32 field: kFlagBranch or kFlagRip
 
   void operands(u32 n) {
     left = n;
     role = kOperand;
-    if (n == 0) role = rexw = o16 = 0;
+    if (n == 0) role = kOp;
   }
 
   void step(u32 b) {
@@ -142,7 +121,7 @@ struct X86 {
     u32 r = role;
     rel = 0;
     if (r == kOperand) {
-      if (--left == 0) role = rexw = o16 = 0;
+      if (--left == 0) role = kOp;
       return;
     }
     if (r >= kModrm) {
@@ -159,42 +138,34 @@ struct X86 {
       operands((mod == 1 ? 1 : mod == 2 || (mod == 0 && base == 5) ? 4 : 0) + imm);
       return;
     }
-    u32 has_modrm = 1, n = 0;
+    u32 c; // the opcode's class as in kOneByte
     if (r == kOp) {
       if (b == 0x0F) {
         role = kOp0F;
         return;
       }
-      u32 c = kOneByte[b >> 1] >> (b & 1) * 4 & 15, code = c & 7;
-      if (code == 7) { // a prefix
-        if ((b & 0xF0) == 0x40) rexw = b & 8;
-        if (b == 0x66) o16 = 1;
-        return;
-      }
-      n = code == 6 && rexw ? 8 : (code == 2 || code == 6) && o16 ? 2 : imm_bytes[code];
-      has_modrm = c & 8;
-      if ((b | 1) == 0xE9 && n == 4) rel = kFlagBranch;
+      c = kOneByte[b >> 1] >> (b & 1) * 4 & 15;
+      if (c == 7) return; // a prefix
     } else if (r == kOp0F) {
       if ((b | 2) == 0x3A) {
         role = b == 0x38 ? kOp38 : kOp3A;
         return;
       }
-      u32 c = kTwoByte[b >> 2] >> (b & 3) * 2 & 3;
-      has_modrm = c != 1 && c != 2;
-      n = c == 2 ? 4 : c == 3;
-      if (c == 2) rel = kFlagBranch;
+      static const u8 two_byte_class[4] = {8, 0, 2, 9};
+      c = two_byte_class[kTwoByte[b >> 2] >> (b & 3) * 2 & 3];
       b |= 0x100;
     } else {
-      n = r == kOp3A;
+      c = r == kOp3A ? 9 : 8;
       b |= r << 8;
     }
+    rel = (b | 1) == 0xE9 || (b & 0x1F0) == 0x180 ? kFlagBranch : 0; // CALL, JMP, Jcc rel32
     prev = op;
     op = b;
-    imm = n;
-    if (has_modrm)
+    imm = imm_bytes[c & 7];
+    if (c & 8)
       role = kModrm;
     else
-      operands(n);
+      operands(imm);
   }
 };
 
@@ -202,29 +173,52 @@ struct X86 {
 // update(bit) learns it. Both sides call them in the same order.
 struct Predictor {
   Tables* t;
-  Params prm;
+  int n;           // models in use
+  u32 flags;       // kFlag*
+  const u8* masks; // n little-endian 16-bit masks (the header's)
   u32 hash[kMaxModels];
-  u16* cur[kMaxModels];
+  u8* cur[kMaxModels];
   int in[kMixInputs];
   X86 x86;
-  u64 hist;   // the last 8 bytes, byte -1 lowest
-  u32 c0;     // 1, then the bits of the current byte behind a leading 1
-  u32 pos;    // bytes done
+  u64 hist; // the last 8 bytes, byte -1 lowest
+  u32 c0;   // 1, then the bits of the current byte behind a leading 1
+  u32 pos;  // bytes done
+  int* wa;  // the mixer's weight sets in use
+  int* wb;
+  u16* apm;   // the SSE row in use
   int pmix;   // mixer output (12 bits)
   int apm_at; // the lower of the two APM cells in use
   int apm_w;  // the upper one's interpolation weight (0..511)
 
-  void init(void* work, const Params& p) {
+  // `header`: the stream's header, [n][flags][mask lo, mask hi] * n; a
+  // damaged n counts as 1.
+  int squash(int d) const { return t->squash[(d < -2047 ? -2047 : d > 2047 ? 2047 : d) + 2047]; }
+
+  void init(void* work, const u8* header) {
     t = static_cast<Tables*>(work);
-    prm = p;
+    n = header[0];
+    if (n < 1 || n > kMaxModels) n = 1;
+    flags = header[1];
+    masks = header + 2;
     hist = 0;
     x86 = X86{};
     c0 = 1;
     pos = 0;
+    // squash(d) = 4096 / (1 + e^(-d/256)) for d in -2047..2047, stretch
+    // units (lpaq1's squash, which interpolates 33 points; here e^(-d/256)
+    // steps down from e^(2047/256) in 16.16 fixed point with rounding, for
+    // d <= 0, and squash(-d) = 4096 - squash(d); integers only).
+    u64 e = 194598426; // e^(2047/256) * 2^16
+    for (int i = 0; i < 2048; ++i) {
+      int v = static_cast<int>((1u << 28) / (65536 + static_cast<u32>(e)));
+      t->squash[i] = static_cast<short>(v);
+      t->squash[4094 - i] = static_cast<short>(4096 - v);
+      e = (e * 4278222805u + (1u << 31)) >> 32; // * e^(-1/256)
+    }
     // stretch = squash^-1 over 0..4095.
     int pi = 0;
     for (int x = -2047; x <= 2047; ++x) {
-      int v = squash(x);
+      int v = t->squash[x + 2047];
       for (int j = pi; j <= v; ++j)
         t->stretch[j] = static_cast<short>(x);
       pi = v + 1;
@@ -238,8 +232,8 @@ struct Predictor {
   }
 
   void rehash() {
-    for (int i = 0; i < prm.n; ++i) {
-      u32 m = prm.mask[i];
+    for (int i = 0; i < n; ++i) {
+      u32 m = masks[2 * i] | masks[2 * i + 1] << 8;
       u32 h = (m + 1) * 0x9E3779B1u;
       for (int j = 0; j < 8; ++j)
         if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
@@ -251,35 +245,39 @@ struct Predictor {
     }
   }
 
-  // The mixer's weight set: the x86 role, the bit's position in the byte
-  // and the operand byte's index (tuned: 16,480 bytes against 17,173 for
-  // weights by c0 alone).
-  int mix_select() const {
-    return static_cast<int>(x86.role << 3 | (31 - __builtin_clz(c0)) | (x86.left & 3) << 6);
+  // The mixer's two weight sets, whose sums weigh the inputs: one by the
+  // x86 role, the bit's position in the byte and the operand byte's index,
+  // one by the role, the operand byte's index and the last byte (tuned:
+  // 16,825 bytes with the first alone, 16,534 with both; the first alone
+  // by c0 gave 17,173 on an older model).
+  int* weights_a() const {
+    return t->weight[x86.role << 3 | (31 - __builtin_clz(c0)) | (x86.left & 3) << 6];
   }
+  int* weights_b() const { return t->weight[256 + ((hist & 255) << 8 | x86.role | x86.left << 3)]; }
   u16* apm_row() const { return &t->apm[((x86.role | x86.left << 3) << 8 | c0) * kApmCells]; }
 
   int p() {
     i64 sum = 0;
-    const int* w = t->weight[mix_select()];
-    for (int i = 0; i < prm.n; ++i) {
+    int* w = wa = weights_a();
+    int* v = wb = weights_b();
+    for (int i = 0; i < n; ++i) {
       u32 h = (hash[i] + c0 * 0x6F4F2A35u) * 0x9E3779B1u;
-      cur[i] = &t->slot[i][h >> (32 - kSlotBits)];
-      in[i] = t->stretch[counter_p12(*cur[i])];
-      sum += static_cast<i64>(w[i]) * in[i];
+      cur[i] = t->slot[i][h >> (32 - kSlotBits)];
+      in[i] = t->stretch[counter_p12(cur[i])];
+      sum += static_cast<i64>(w[i] + v[i]) * in[i];
     }
-    in[prm.n] = 256;
-    sum += static_cast<i64>(w[prm.n]) * 256;
+    in[n] = 256;
+    sum += static_cast<i64>(w[n] + v[n]) * 256;
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;
-    pmix = squash(d);
+    pmix = t->squash[d + 2047];
     // SSE: interpolate between the two cells around stretch(pmix), then
     // average with the mixer (1:3; 1:1 and the mixer alone cost more).
     int s = (d + 2048) * 4; // 0..16380: 32 cells of 512
     apm_at = s >> 9;
     apm_w = s & 511;
-    const u16* r = apm_row();
+    const u16* r = apm = apm_row();
     int q = (r[apm_at] * (512 - apm_w) + r[apm_at + 1] * apm_w) >> 13;
     int pr = (pmix + q * 3) >> 2;
     if (pr < 1) pr = 1;
@@ -288,14 +286,15 @@ struct Predictor {
   }
 
   void update(int y) {
-    for (int i = 0; i < prm.n; ++i)
-      counter_update(*cur[i], y, prm.limit);
-    int err = ((y << 12) - pmix) * prm.rate;
-    int* w = t->weight[mix_select()];
-    for (int i = 0; i <= prm.n; ++i)
-      w[i] += (in[i] * err) >> 14;
+    for (int i = 0; i < n; ++i)
+      counter_update(cur[i], y);
+    int err = ((y << 12) - pmix) * 10; // the learning rate (tuned: 8-12 best)
+    for (int i = 0; i <= n; ++i) {
+      wa[i] += (in[i] * err) >> 14;
+      wb[i] += (in[i] * err) >> 14;
+    }
     // SSE: move the nearer cell toward the bit (rate 1/64).
-    u16* r = apm_row() + apm_at + (apm_w >> 8);
+    u16* r = apm + apm_at + (apm_w >> 8);
     *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 6));
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
@@ -309,11 +308,11 @@ struct Predictor {
 };
 
 // Header bytes for `p`.
-inline u32 header_bytes(const Params& p) { return 4 + 2 * p.n; }
+inline u32 header_bytes(const Params& p) { return 2 + 2 * p.n; }
 
 // decode() reads at most this many bytes of its input for `size` output
 // bytes, whatever they hold (reads past it see 0); encode() fails rather
 // than write more.
-inline u32 max_encoded(u32 size) { return 4 + 2 * kMaxModels + size + (size >> 4) + 16; }
+inline u32 max_encoded(u32 size) { return 2 + 2 * kMaxModels + size + (size >> 4) + 16; }
 
 } // namespace rt64k::pack::model

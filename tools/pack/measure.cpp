@@ -1,6 +1,6 @@
 // measure.cpp - pack-measure: the codec's bytes on given files (concatenated),
 // with a round-trip check. Usage:
-//   pack-measure FILE... [--limit N] [--rate N] [--flags N] [--masks m,m,...] [--search PASSES]
+//   pack-measure FILE... [--flags N] [--masks m,m,...] [--search PASSES]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -42,10 +42,6 @@ int main(int argc, char** argv) {
     };
     if (a == "--search")
       search = static_cast<int>(value());
-    else if (a == "--limit")
-      prm.limit = static_cast<unsigned char>(value());
-    else if (a == "--rate")
-      prm.rate = static_cast<unsigned char>(value());
     else if (a == "--flags")
       prm.flags = static_cast<unsigned char>(value());
     else if (a == "--masks") {
@@ -64,7 +60,7 @@ int main(int argc, char** argv) {
     }
   }
   if (data.empty()) {
-    std::fprintf(stderr, "usage: pack-measure FILE... [--limit N] [--rate N] [--flags N] "
+    std::fprintf(stderr, "usage: pack-measure FILE... [--flags N] "
                          "[--masks m,m,...]\n");
     return 2;
   }
@@ -78,17 +74,26 @@ int main(int argc, char** argv) {
       return encode_with(p, data.data(), size, packed.data(), static_cast<unsigned>(packed.size()),
                          work.data());
     };
-    std::vector<unsigned short> cands;
-    for (unsigned m = 0; m < 256; ++m)
-      cands.push_back(static_cast<unsigned short>(m));
-    for (unsigned m = 0; m < 256; ++m)
-      if (__builtin_popcount(m) <= 2)
-        for (unsigned extra :
-             {model::kMaskColumn, model::kMaskX86Op, model::kMaskX86Modrm, model::kMaskX86Prev,
-              model::kMaskX86Op | model::kMaskX86Modrm, model::kMaskX86Op | model::kMaskX86Prev})
-          cands.push_back(static_cast<unsigned short>(m | extra));
+    // Candidates: short byte masks, the x86 parse's contexts alone and with
+    // the last bytes, the column with the 4-byte-back and 8-byte-back bytes.
+    const std::vector<unsigned short> cands = {
+        0x000, 0x001, 0x003, 0x007, 0x00F, 0x01F, 0x03F, 0x07F, 0x0FF, 0x002, 0x004, 0x005,
+        0x006, 0x00E, 0x00C, 0x008, 0x010, 0x030, 0x009, 0x00B, 0x00D, 0x200, 0x201, 0x203,
+        0x207, 0x202, 0x204, 0x400, 0x401, 0x403, 0x600, 0x601, 0x800, 0x801, 0xA00, 0xA01,
+        0xE00, 0xE01, 0xC00, 0xC01, 0x100, 0x101, 0x108, 0x188, 0x10F, 0x1F0, 0x110, 0x111};
+    std::printf("drop-one:");
+    for (int i = 0; i < prm.n; ++i) {
+      model::Params p = prm;
+      for (int j = i; j + 1 < p.n; ++j)
+        p.mask[j] = p.mask[j + 1];
+      --p.n;
+      std::printf(" %x:%u", prm.mask[i], cost(p));
+      std::fflush(stdout);
+    }
+    std::printf("\n");
     unsigned best = cost(prm);
     std::printf("start %u\n", best);
+    std::fflush(stdout);
     for (int pass = 0; pass < search; ++pass) {
       for (int slot = 0; slot < model::kMaxModels; ++slot) {
         if (slot > prm.n) break;
@@ -120,6 +125,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::fill(work.begin(), work.end(), 0);
+  std::fill(packed.begin() + n, packed.end(), 0xEE); // decode reads the n bytes only
   std::vector<unsigned char> back(size);
   auto t2 = std::chrono::steady_clock::now();
   decode(packed.data(), back.data(), size, work.data());

@@ -172,28 +172,30 @@ struct X86 {
 // The context-mixing predictor: p() gives P(next bit = 1) in 1..4095;
 // update(bit) learns it. Both sides call them in the same order.
 struct Predictor {
+  // Scalars first: their offsets fit in a byte, which keeps the stub's
+  // instructions short.
   Tables* t;
   int n;           // models in use
   u32 flags;       // kFlag*
   const u8* masks; // n little-endian 16-bit masks (the header's)
-  u32 hash[kMaxModels];
-  u8* cur[kMaxModels];
-  int in[kMixInputs];
-  X86 x86;
-  u64 hist; // the last 8 bytes, byte -1 lowest
-  u32 c0;   // 1, then the bits of the current byte behind a leading 1
-  u32 pos;  // bytes done
-  int* wa;  // the mixer's weight sets in use
+  u64 hist;        // the last 8 bytes, byte -1 lowest
+  u32 c0;          // 1, then the bits of the current byte behind a leading 1
+  u32 pos;         // bytes done
+  int* wa;         // the mixer's weight sets in use
   int* wb;
   u16* apm;   // the SSE row in use
   int pmix;   // mixer output (12 bits)
   int apm_at; // the lower of the two APM cells in use
   int apm_w;  // the upper one's interpolation weight (0..511)
+  X86 x86;
+  u32 hash[kMaxModels];
+  int in[kMixInputs];
+  u8* cur[kMaxModels];
+
+  int squash(int d) const { return t->squash[(d < -2047 ? -2047 : d > 2047 ? 2047 : d) + 2047]; }
 
   // `header`: the stream's header, [n][flags][mask lo, mask hi] * n; a
   // damaged n counts as 1.
-  int squash(int d) const { return t->squash[(d < -2047 ? -2047 : d > 2047 ? 2047 : d) + 2047]; }
-
   void init(void* work, const u8* header) {
     t = static_cast<Tables*>(work);
     n = header[0];
@@ -293,9 +295,9 @@ struct Predictor {
       wa[i] += (in[i] * err) >> 14;
       wb[i] += (in[i] * err) >> 14;
     }
-    // SSE: move the nearer cell toward the bit (rate 1/64).
+    // SSE: move the nearer cell toward the bit (rate 1/32; 1/16 and 1/64 cost more).
     u16* r = apm + apm_at + (apm_w >> 8);
-    *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 6));
+    *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 5));
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
       hist = hist << 8 | (c0 & 255);

@@ -99,9 +99,11 @@ inline const u8 kTwoByte[64] = {
     0x30, 0x3F, 0x55, 0x55, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
 
 // The next byte's role in the x86-64 instruction stream: an opcode or a
-// prefix, the opcode after 0F, 0F 38 or 0F 3A, a ModRM or SIB byte, or one
-// of the `left` displacement and immediate bytes.
-enum : u8 { kOp, kOp0F, kOp38, kOp3A, kModrm, kSib, kOperand };
+// prefix, the opcode after 0F, a ModRM or SIB byte, or one of the `left`
+// displacement and immediate bytes. (0F 38 and 0F 3A, three-byte opcodes,
+// are SSSE3 and later: intro.exe, SSE2 only, has none, so the parse takes
+// them as two-byte opcodes with ModRM; handling them cost ~25 decoder bytes.)
+enum : u8 { kOp, kOp0F, kModrm, kSib, kOperand };
 
 // Follows the byte stream as x86-64 code (paq8's exe model and kkrunchy
 // parse instructions to give operand bytes their own contexts). In data it
@@ -146,17 +148,10 @@ struct X86 {
       }
       c = kOneByte[b >> 1] >> (b & 1) * 4 & 15;
       if (c == 7) return; // a prefix
-    } else if (r == kOp0F) {
-      if ((b | 2) == 0x3A) {
-        role = b == 0x38 ? kOp38 : kOp3A;
-        return;
-      }
+    } else {              // kOp0F
       static const u8 two_byte_class[4] = {8, 0, 2, 9};
       c = two_byte_class[kTwoByte[b >> 2] >> (b & 3) * 2 & 3];
       b |= 0x100;
-    } else {
-      c = r == kOp3A ? 9 : 8;
-      b |= r << 8;
     }
     rel = (b | 1) == 0xE9 || (b & 0x1F0) == 0x180 ? kFlagBranch : 0; // CALL, JMP, Jcc rel32
     prev = op;

@@ -1,10 +1,12 @@
 #!/bin/bash
 # pack.bad_input: rt64k-pack refuses what the stub cannot load, with a clear
 # message and exit code 1, and writes no output file. Each case is intro.exe
-# with one thing changed (bytes patched in a copy), or not a PE at all.
-#   pack-bad-input.sh RT64K_PACK INTRO_EXE WORK_DIR
+# with one thing changed (bytes patched in a copy), or not a PE at all. And
+# `check` refuses a damaged packed exe (PACKED_EXE with a byte of its payload
+# changed, or cut short) with a message and exit code 1.
+#   pack-bad-input.sh RT64K_PACK INTRO_EXE WORK_DIR PACKED_EXE
 set -u
-readonly tool=$1 exe=$2 work=$3
+readonly tool=$1 exe=$2 work=$3 packed=$4
 rm -rf "$work" && mkdir -p "$work" || exit 1
 failures=0
 
@@ -68,6 +70,24 @@ if [ $rc -ne 1 ] || ! grep -qF "expected 2" "$work/check.err"; then
 else
   echo "ok   check_not_packed: $(cat "$work/check.err")"
 fi
+# expect_check NAME PACKED PHRASE: `check intro.exe PACKED` exits 1, says PHRASE.
+expect_check() {
+  local name=$1 input=$2 phrase=$3 rc
+  "$tool" check "$exe" "$input" >"$work/$name.out" 2>"$work/$name.err"
+  rc=$?
+  if [ $rc -ne 1 ] || ! grep -qF -- "$phrase" "$work/$name.err"; then
+    echo "FAIL $name: exit $rc, '$(cat "$work/$name.err")' (expected 1, '$phrase')"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name: $(cat "$work/$name.err")"
+  fi
+}
+# The payload starts at file offset 512 (the record, 20 bytes, then the
+# encoded image): a byte 1000 bytes into it flipped decodes to other bytes.
+cp "$packed" "$work/flipped.exe" && patch "$work/flipped.exe" $((512 + 20 + 1000)) 5a
+cmp -s "$packed" "$work/flipped.exe" || expect_check damaged_payload "$work/flipped.exe" "differs"
+head -c 4096 "$packed" >"$work/short.exe"
+expect_check truncated_packed "$work/short.exe" "truncated"
 # No arguments: usage, exit 2.
 "$tool" >/dev/null 2>&1
 rc=$?

@@ -404,6 +404,24 @@ Bytes decodeNative(const unsigned char* encoded, size_t available, unsigned byte
   return out;
 }
 
+// The PE header's CheckSum of `file` (the field itself counted as zero):
+// 16-bit little-endian words summed with the carries folded back in, plus the
+// file's length (the algorithm of Microsoft's CheckSumMappedFile; it gives
+// the value GNU ld wrote into intro.exe). Windows checks it only for drivers
+// and boot files; `finish` keeps it right after changing a header.
+unsigned peChecksum(const Bytes& file) {
+  const size_t field = read32(file, 0x3c) + 24 + 64;
+  unsigned long long sum = 0;
+  for (size_t i = 0; i < file.size(); i += 2) {
+    unsigned word = file[i] | (i + 1 < file.size() ? file[i + 1] << 8 : 0);
+    if (i == field || i == field + 2) word = 0;
+    sum += word;
+    sum = (sum & 0xffff) + (sum >> 16);
+  }
+  sum = (sum & 0xffff) + (sum >> 16);
+  return unsigned(sum + file.size());
+}
+
 int pack(const char* inPath, const char* outPath) {
   const Image im = load(inPath);
   const unsigned bytes = im.end - kImageRva;
@@ -515,6 +533,8 @@ int check(const char* originalPath, const char* packedPath) {
                 "constants %u + imports %u + padding %u\n",
                 file.size(), p.sizeOfHeaders, payloadBytes, kPayloadHeaderBytes, encodedBytes,
                 stubBytes, importBytes, padding);
+    if (read32(file, read32(file, 0x3c) + 24 + 64) != peChecksum(file))
+      fail("the packed exe's CheckSum field is not its checksum");
     if (p.sizeOfHeaders + packed.rawSize != file.size())
       fail("the packed exe has bytes after its last section");
     return 0;
@@ -542,6 +562,7 @@ int finish(const char* inPath, const char* outPath) {
     };
     put32(header + 16, 0);                           // SizeOfRawData
     put32(header + 36, kScnRwx | kScnUninitialised); // characteristics
+    put32(pe + 24 + 64, peChecksum(file));
     std::string text(file.begin(), file.end());
     writeFile(outPath, text, true);
     return 0;

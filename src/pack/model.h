@@ -6,17 +6,24 @@
 // - the binary arithmetic coder with 12-bit probabilities, carry-less, a
 //   32-bit range that shifts out a byte when its top bytes agree: Matt
 //   Mahoney's lpaq1 (2007) Encoder/Decoder;
-// - squash() (the logistic function in 12 bits), stretch() as its inverse, the logistic
-//   mixer (weights trained by err * input) and the APM/SSE stage: lpaq1;
+// - squash() (the logistic function in 12 bits; ours is a table built by
+//   stepping e^(-d/256) in fixed point), stretch() as its inverse, the
+//   logistic mixer (weights trained by err * input) and the APM/SSE stage:
+//   lpaq1;
 // - each model as a mask of which of the last 8 bytes form its context, the
 //   encoder choosing the masks and storing them in the header: Crinkler
-//   (Blueberry & Mentor, "Crinkler" notes and Assembly 2007 seminar);
+//   (Blueberry & Mentor), as described by Alexandre Mutel, "Crinkler
+//   secrets, 4k intro executable compressor at its best" (2010);
 // - counters as a pair of bit counts whose opposite count is halved on
 //   each bit: paq8's nonstationary counters (Mahoney, "Adaptive weighing of
 //   context models for lossless data compression", 2005);
-// - the E8/E9 call transform (call/jmp rel32 -> absolute): paq8's exe
-//   model and the BCJ filter of xz/LZMA; kkrunchy (ryg) notes that relative
-//   call targets compress badly because the same target gets other bytes.
+// - parsing x86 instructions so that each operand byte has the opcode and
+//   its position as context: paq8's exe model and kkrunchy (Fabian Giesen,
+//   "x86 code compression in kkrunchy", 2011); the opcode maps from the
+//   Intel SDM, vol. 2, appendix A;
+// - coding rel32 fields as absolute (call/jmp targets: the E8/E9 transform
+//   of paq8 and of xz's BCJ filter; here found by the parse, RIP-relative
+//   displacements too): the same target then carries the same bytes.
 #pragma once
 
 namespace rt64k::pack::model {
@@ -49,8 +56,9 @@ constexpr u8 kFlagBranch = 1; // CALL/JMP rel32 (E8, E9) and Jcc rel32 (0F 80-8F
 constexpr u8 kFlagRip = 2;    // RIP-relative disp32 (ModRM mod 00, r/m 101)
 
 // A counter: two bytes n[0], n[1], the zeros and ones seen in its context
-// (at most 255), the opposite count halved (kept above 1) on each bit so that it follows
-// change (paq8's nonstationary counters). P(1) = (4 n1 + 1) / (4 n0 + 4 n1 + 2):
+// (at most 255), the opposite count halved (kept above 1) on each bit so
+// that it follows change (paq8's nonstationary counters).
+// P(1) = (4 n1 + 1) / (4 n0 + 4 n1 + 2):
 // a context seen once or twice is already trusted (tuned on intro.exe:
 // factor 4 beat 2, 3 and 6; the counts beat 16-bit probabilities adapting
 // at 1/(n+1.5) by 200 bytes).
@@ -70,8 +78,8 @@ struct Params {
 
 struct Tables {
   u8 slot[kMaxModels][kSlots][2];      // counters
-  int weight[256 + 65536][kMixInputs]; // mixer weights (16.16): two sets, see mix_sets()
-  u16 apm[128 * 256 * kApmCells];      // SSE by the x86 role and c0
+  int weight[256 + 65536][kMixInputs]; // mixer weights (16.16): weights_a(), weights_b()
+  u16 apm[128 * 256 * kApmCells];      // SSE by the x86 role, operand index and c0
   short stretch[4096];
   short squash[4095]; // squash(d) at d + 2047
 };
@@ -225,6 +233,10 @@ struct Predictor {
     // APMs start as the identity: cell k holds squash((k - 16) * 128) * 16.
     for (u32 c = 0; c < sizeof t->apm / sizeof t->apm[0]; ++c)
       t->apm[c] = static_cast<u16>(squash((static_cast<int>(c % kApmCells) - 16) * 128) * 16);
+    // Every mixer weight starts at 1/16 (two sets: 1/8 per input; tuned:
+    // 0 cost 74 bytes, 1/32 31, 1/8 336).
+    for (u32 c = 0; c < sizeof t->weight / sizeof(int); ++c)
+      (&t->weight[0][0])[c] = 1 << 12;
     rehash();
   }
 

@@ -29,7 +29,8 @@ constexpr unsigned kWorkBytes = 1u << 27;
 // damaged input it reads at most model::max_encoded(size) bytes (reads
 // past that see zeros), so a caller that cannot trust its payload gives
 // that many readable bytes. It never fails: damaged input decodes to other
-// bytes.
+// bytes. `out` must not overlap `in` (the model reads the header's masks
+// from `in` throughout).
 void decode(const unsigned char* in, unsigned char* out, unsigned size, void* work);
 
 // Encodes `size` bytes of `in` into `out`, which has room for `capacity`

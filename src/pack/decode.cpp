@@ -12,8 +12,9 @@ void decode(const unsigned char* in, unsigned char* out, unsigned size, void* wo
   const u32 bound = max_encoded(size);
   Predictor m;
   m.init(work, in); // the header: at most 2 + 2 * kMaxModels bytes, within bound
-  u32 at = 2 + 2 * static_cast<u32>(m.n);
-  auto next = [&]() -> u32 { return at < bound ? in[at++] : 0u; };
+  const u8* at = in + 2 + 2 * m.n;
+  const u8* end = in + bound;
+  auto next = [&]() -> u32 { return at < end ? *at++ : 0u; };
   u32 x1 = 0, x2 = 0xFFFFFFFFu, x = 0;
   for (int i = 0; i < 4; ++i)
     x = x << 8 | next();
@@ -39,9 +40,10 @@ void decode(const unsigned char* in, unsigned char* out, unsigned size, void* wo
     out[k] = static_cast<u8>(c);
     if (field && k == field + 2) { // the field's last byte: back to relative
       u8* f = out + field - 1;
-      u32 v = (f[0] | f[1] << 8 | f[2] << 16 | static_cast<u32>(f[3]) << 24) - (field - 1);
-      for (int i = 0; i < 4; ++i, v >>= 8)
-        f[i] = static_cast<u8>(v);
+      u32 v; // little-endian, as x86 is (4-byte copies compile to moves)
+      __builtin_memcpy(&v, f, 4);
+      v -= field - 1;
+      __builtin_memcpy(f, &v, 4);
       field = 0;
     }
   }

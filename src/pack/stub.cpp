@@ -90,3 +90,39 @@ __asm__(".section .text$stub_start,\"x\"\n"
         "  movl $1, %eax\n"
         "  ret\n"
         ".text\n");
+
+// The packed exe's own import table, written here instead of taken from
+// MinGW's libkernel32.a (whose lookup table repeats the address table and
+// whose names are padded): one descriptor without a lookup table
+// (OriginalFirstThunk 0: the loader reads the names through the address
+// table itself, as the PE format allows), the address table of the two
+// functions (their `__imp_` symbols are what the calls above go through),
+// their hint/name entries (hint 0; each entry starts on an even address)
+// and the DLL's name. stub.ld adds the null descriptor and places these
+// sections in the import format's order.
+__asm__(".section .idata$2,\"w\"\n"
+        "  .long 0, 0, 0\n"
+        "  .rva rt64k_kernel32\n"
+        "  .rva __imp_LoadLibraryA\n"
+        ".section .idata$5,\"w\"\n"
+        ".globl __imp_LoadLibraryA\n"
+        "__imp_LoadLibraryA:\n"
+        "  .rva rt64k_load_library\n"
+        "  .long 0\n"
+        ".globl __imp_GetProcAddress\n"
+        "__imp_GetProcAddress:\n"
+        "  .rva rt64k_get_proc_address\n"
+        "  .long 0\n"
+        "  .quad 0\n"
+        ".section .idata$6,\"w\"\n"
+        "rt64k_load_library:\n"
+        "  .short 0\n"
+        "  .asciz \"LoadLibraryA\"\n"
+        "  .byte 0\n"
+        "rt64k_get_proc_address:\n"
+        "  .short 0\n"
+        "  .asciz \"GetProcAddress\"\n"
+        ".section .idata$7,\"w\"\n"
+        "rt64k_kernel32:\n"
+        "  .asciz \"KERNEL32.dll\"\n"
+        ".text\n");

@@ -172,6 +172,54 @@ TEST(Pack, DamagedInputStaysInBounds) {
   EXPECT_GE(differing, 6);
 }
 
+TEST(Pack, DataRegionRoundTrips) {
+  // Constants then code-like bytes, as intro.exe's .text: any data region
+  // (none, part, past the end) decodes.
+  std::mt19937 rng(21);
+  Bytes image;
+  for (int i = 0; i < 1024; ++i) { // floats with short mantissas
+    unsigned f = 0x3F000000u | static_cast<unsigned>(rng() % 64) << 17;
+    for (int k = 0; k < 4; ++k)
+      image.push_back(static_cast<unsigned char>(f >> 8 * k));
+  }
+  const unsigned char ops[][7] = {{0xF3, 0x0F, 0x10, 0x05, 0, 0, 0},
+                                  {0x48, 0x89, 0xC1, 0, 0, 0, 0},
+                                  {0xE8, 0, 0, 0, 0, 0, 0},
+                                  {0xC3, 0, 0, 0, 0, 0, 0}};
+  const unsigned lengths[] = {8, 3, 5, 1};
+  while (image.size() < 12000) {
+    unsigned op = static_cast<unsigned>(rng() % 4);
+    for (unsigned k = 0; k < lengths[op]; ++k)
+      image.push_back(k < 4 && ops[op][k] ? ops[op][k] : static_cast<unsigned char>(rng() % 16));
+  }
+  // The chosen region prices within 1 % of the better extreme (no region,
+  // all data), whose prices the two passes know exactly.
+  auto size_with = [&](unsigned data_end) {
+    rt64k::pack::model::Params p = rt64k::pack::default_params();
+    p.data_end = static_cast<unsigned short>(data_end);
+    Bytes packed(max_encoded(static_cast<unsigned>(image.size())));
+    return rt64k::pack::encode_with(p, image.data(), static_cast<unsigned>(image.size()),
+                                    packed.data(), static_cast<unsigned>(packed.size()),
+                                    zeroed_work());
+  };
+  const unsigned none = size_with(0), all = size_with(static_cast<unsigned>(image.size() / 4));
+  const unsigned chosen = static_cast<unsigned>(pack(image).size());
+  EXPECT_LE(chosen, (none < all ? none : all) * 101 / 100);
+  rt64k::pack::model::Params prm = rt64k::pack::default_params();
+  expect_round_trip(image);
+  for (unsigned data_end : {0u, 100u, 1024u, 2999u, 3000u, 65535u}) {
+    SCOPED_TRACE(data_end);
+    prm.data_end = static_cast<unsigned short>(data_end);
+    Bytes packed(max_encoded(static_cast<unsigned>(image.size())));
+    unsigned n = rt64k::pack::encode_with(prm, image.data(), static_cast<unsigned>(image.size()),
+                                          packed.data(), static_cast<unsigned>(packed.size()),
+                                          zeroed_work());
+    ASSERT_GT(n, 0u);
+    packed.resize(n);
+    EXPECT_EQ(unpack(packed, static_cast<unsigned>(image.size()), nullptr), image);
+  }
+}
+
 TEST(Pack, RelativeFieldsRoundTrip) {
   // Code-like input full of CALL/JMP rel32 and RIP-relative loads (the
   // fields the coder sees as absolute), cut at every length near the end so

@@ -11,8 +11,8 @@ void decode(const unsigned char* in, unsigned char* out, unsigned size, void* wo
   using namespace model;
   const u32 bound = max_encoded(size);
   Predictor m;
-  m.init(work, in); // the header: at most 2 + 2 * kMaxModels bytes, within bound
-  const u8* at = in + 2 + 2 * m.n;
+  m.init(work, in); // the header: at most 4 + 2 * kMaxModels bytes, within bound
+  const u8* at = in + 4 + 2 * m.n;
   const u8* end = in + bound;
   auto next = [&]() -> u32 { return at < end ? *at++ : 0u; };
   u32 x1 = 0, x2 = 0xFFFFFFFFu, x = 0;

@@ -2,6 +2,7 @@
 // decode.cpp, driving the arithmetic coder the other way.
 #include "encode.h"
 
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -10,7 +11,7 @@ namespace rt64k::pack {
 using namespace model;
 
 unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, unsigned char* out,
-                     unsigned capacity, void* work) {
+                     unsigned capacity, void* work, double* byte_bits) {
   const u32 limit = capacity < max_encoded(size) ? capacity : max_encoded(size);
   std::vector<u8> src(in, in + size);
   u32 n = 0;
@@ -22,10 +23,11 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
       overflow = true;
   };
   if (prm.n < 1 || prm.n > kMaxModels) return 0;
-  u8 header[2 + 2 * kMaxModels] = {prm.n, prm.flags};
+  u8 header[4 + 2 * kMaxModels] = {prm.n, prm.flags, static_cast<u8>(prm.data_end),
+                                   static_cast<u8>(prm.data_end >> 8)};
   for (int i = 0; i < prm.n; ++i) {
-    header[2 + 2 * i] = static_cast<u8>(prm.mask[i]);
-    header[3 + 2 * i] = static_cast<u8>(prm.mask[i] >> 8);
+    header[4 + 2 * i] = static_cast<u8>(prm.mask[i]);
+    header[5 + 2 * i] = static_cast<u8>(prm.mask[i] >> 8);
   }
   for (u32 i = 0; i < header_bytes(prm); ++i)
     put(header[i]);
@@ -41,7 +43,9 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
     }
     for (int j = 7; j >= 0; --j) {
       int y = src[k] >> j & 1;
-      u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(m.p());
+      const int p1 = m.p();
+      if (byte_bits) byte_bits[k] -= std::log2((y ? p1 : 4096 - p1) / 4096.0);
+      u32 xmid = x1 + ((x2 - x1) >> 12) * static_cast<u32>(p1);
       if (y)
         x2 = xmid;
       else
@@ -78,9 +82,40 @@ Params default_params() {
   return p;
 }
 
+Params choose_data_region(Params prm, const unsigned char* in, unsigned size, void* work) {
+  prm.data_end = 0;
+  if (size < 4096) return prm;
+  // Two passes price every byte as code (no data region) and as data (all
+  // of it, up to the header's limit); bytes before a split cost what the
+  // data pass says exactly, bytes after it about what the code pass says.
+  std::vector<double> as_code(size, 0.0), as_data(size, 0.0);
+  std::vector<u8> scratch(max_encoded(size));
+  const u32 cap = static_cast<u32>(scratch.size());
+  encode_with(prm, in, size, scratch.data(), cap, work, as_code.data());
+  std::memset(work, 0, kWorkBytes);
+  Params all = prm;
+  all.data_end = static_cast<u16>(size / 4 < 65535 ? size / 4 : 65535);
+  encode_with(all, in, size, scratch.data(), cap, work, as_data.data());
+  std::memset(work, 0, kWorkBytes);
+  double code_after = 0, data_before = 0;
+  for (u32 k = 0; k < size; ++k)
+    code_after += as_code[k];
+  double best = code_after;
+  for (u32 k = 0; k < 4u * all.data_end; ++k) {
+    data_before += as_data[k];
+    code_after -= as_code[k];
+    if ((k + 1) % 4 == 0 && data_before + code_after < best) {
+      best = data_before + code_after;
+      prm.data_end = static_cast<u16>((k + 1) / 4);
+    }
+  }
+  return prm;
+}
+
 unsigned encode(const unsigned char* in, unsigned size, unsigned char* out, unsigned capacity,
                 void* work) {
-  return encode_with(default_params(), in, size, out, capacity, work);
+  return encode_with(choose_data_region(default_params(), in, size, work), in, size, out, capacity,
+                     work);
 }
 
 } // namespace rt64k::pack

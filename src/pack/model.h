@@ -69,10 +69,11 @@ inline void counter_update(u8* n, int y) {
 }
 
 // The parameters the encoder chooses and stores in the stream's header:
-// [n][flags][mask lo, mask hi] * n.
+// [n][flags][data lo, data hi][mask lo, mask hi] * n.
 struct Params {
-  u8 n;     // models in use, 1..kMaxModels
-  u8 flags; // kFlag*
+  u8 n;         // models in use, 1..kMaxModels
+  u8 flags;     // kFlag*
+  u16 data_end; // the data region: bytes [0, 4 * data_end)
   u16 mask[kMaxModels];
 };
 
@@ -112,6 +113,9 @@ inline const u8 kTwoByte[64] = {
 // are SSSE3 and later: intro.exe, SSE2 only, has none, so the parse takes
 // them as two-byte opcodes with ModRM; handling them cost ~25 decoder bytes.)
 enum : u8 { kOp, kOp0F, kModrm, kSib, kOperand };
+// The role of every byte of the data region (the constants before the
+// code), where the parse does not run.
+constexpr u32 kData = 5;
 
 // Follows the byte stream as x86-64 code (paq8's exe model and kkrunchy
 // parse instructions to give operand bytes their own contexts). In data it
@@ -181,6 +185,7 @@ struct Predictor {
   int n;           // models in use
   u32 flags;       // kFlag*
   const u8* masks; // n little-endian 16-bit masks (the header's)
+  u32 data_end;    // bytes before it are the data region
   u64 hist;        // the last 8 bytes, byte -1 lowest
   u32 c0;          // 1, then the bits of the current byte behind a leading 1
   u32 pos;         // bytes done
@@ -197,18 +202,19 @@ struct Predictor {
 
   int squash(int d) const { return t->squash[(d < -2047 ? -2047 : d > 2047 ? 2047 : d) + 2047]; }
 
-  // `header`: the stream's header, [n][flags][mask lo, mask hi] * n; a
-  // damaged n counts as 1.
+  // `header`: the stream's header (Params); a damaged n counts as 1.
   void init(void* work, const u8* header) {
     t = static_cast<Tables*>(work);
     n = header[0];
     if (n < 1 || n > kMaxModels) n = 1;
     flags = header[1];
-    masks = header + 2;
+    data_end = (header[2] | header[3] << 8) * 4u;
+    masks = header + 4;
     hist = 0;
     x86 = X86{};
     c0 = 1;
     pos = 0;
+    if (data_end) x86.role = kData; // no parse in the data region
     // squash(d) = 4096 / (1 + e^(-d/256)) for d in -2047..2047, stretch
     // units (lpaq1's squash, which interpolates 33 points; here e^(-d/256)
     // steps down from e^(2047/256) in 16.16 fixed point with rounding, for
@@ -308,20 +314,20 @@ struct Predictor {
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
       hist = hist << 8 | (c0 & 255);
-      x86.step(c0 & 255);
+      if (pos >= data_end) x86.step(c0 & 255);
       c0 = 1;
-      ++pos;
+      if (++pos == data_end) x86.role = kOp;
       rehash();
     }
   }
 };
 
 // Header bytes for `p`.
-inline u32 header_bytes(const Params& p) { return 2 + 2 * p.n; }
+inline u32 header_bytes(const Params& p) { return 4 + 2 * p.n; }
 
 // decode() reads at most this many bytes of its input for `size` output
 // bytes, whatever they hold (reads past it see 0); encode() fails rather
 // than write more.
-inline u32 max_encoded(u32 size) { return 2 + 2 * kMaxModels + size + (size >> 4) + 16; }
+inline u32 max_encoded(u32 size) { return 4 + 2 * kMaxModels + size + (size >> 4) + 16; }
 
 } // namespace rt64k::pack::model

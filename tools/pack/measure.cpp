@@ -1,6 +1,6 @@
 // measure.cpp - pack-measure: the codec's bytes on given files (concatenated),
 // with a round-trip check. Usage:
-//   pack-measure FILE... [--flags N] [--masks m,m,...] [--search PASSES]
+//   pack-measure FILE... [--flags N] [--data BYTES] [--masks m,m,...] [--search PASSES]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   model::Params prm = default_params();
   std::vector<unsigned char> data;
   int search = 0;
+  long data_bytes = -1; // the data region's bytes; -1: chosen as encode() does
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto value = [&]() -> long {
@@ -42,6 +43,8 @@ int main(int argc, char** argv) {
     };
     if (a == "--search")
       search = static_cast<int>(value());
+    else if (a == "--data")
+      data_bytes = value();
     else if (a == "--flags")
       prm.flags = static_cast<unsigned char>(value());
     else if (a == "--masks") {
@@ -66,6 +69,10 @@ int main(int argc, char** argv) {
   }
   const unsigned size = static_cast<unsigned>(data.size());
   std::vector<unsigned char> work(kWorkBytes), packed(model::max_encoded(size) + 64, 0);
+  if (data_bytes >= 0)
+    prm.data_end = static_cast<unsigned short>(data_bytes / 4);
+  else
+    prm = choose_data_region(prm, data.data(), size, work.data());
   if (search) {
     // Coordinate descent over the models' masks (Crinkler's approach):
     // each slot in turn takes the candidate mask that gives the fewest bytes.
@@ -131,6 +138,7 @@ int main(int argc, char** argv) {
   decode(packed.data(), back.data(), size, work.data());
   auto t3 = std::chrono::steady_clock::now();
   bool ok = back == data;
+  std::printf("data region %u bytes; ", 4u * prm.data_end);
   std::printf("%u -> %u bytes (%.4f bpc), encode %.0f ms, decode %.0f ms, round trip %s\n", size, n,
               8.0 * n / size, std::chrono::duration<double, std::milli>(t1 - t0).count(),
               std::chrono::duration<double, std::milli>(t3 - t2).count(), ok ? "ok" : "FAILED");

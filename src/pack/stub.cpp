@@ -11,8 +11,9 @@
 // At start-up: decode the image into place (it was linked at the same fixed
 // base, 0x140000000, without relocations, so it runs where it lands), fill
 // in the image's import address table the way the loader would have (from a
-// compact list of DLL and function names decoded with the image), then jump to intro.exe's entry
-// point with the stack as the loader left it. Freestanding: no C runtime, no heap.
+// compact list of DLL names and function name hashes decoded with the image), then jump to
+// intro.exe's entry point with the stack as the loader left it. Freestanding: no C runtime, no
+// heap.
 #define WIN32_LEAN_AND_MEAN
 #include <windows.h>
 
@@ -39,35 +40,57 @@ static constexpr unsigned kImageRva = 0x1000;
 // linker script puts it after the image in the uninitialised section).
 alignas(64) static unsigned char work[rt64k::pack::kWorkBytes];
 
-// Returns the address after the NUL that ends the string at `s`.
-static const char* skip(const char* s) {
-  while (*s++ != 0) {
-  }
-  return s;
+// The hash of a function's name by which the list names it: h = 31 h + c
+// over its bytes (tools/pack/pack.cpp's nameHash(), the same formula).
+static unsigned name_hash(const unsigned char* s) {
+  unsigned h = 0;
+  while (*s != 0)
+    h = h * 31 + *s++;
+  return h;
 }
 
 // Returns the address to jump to: intro.exe's entry point, or null when a
 // DLL or one of its functions is missing (the entry code below then returns
-// 1 to the loader's thread start, which ends the process with that code, as
-// the loader's own refusal to start it would have).
+// 1 to the loader's thread start, which ends the thread with that code, as
+// the loader's own refusal to start intro.exe would have ended the process).
 //
 // The imports: tools/pack replaced intro.exe's import directory by a list
 // (pack.cpp, importList()): per DLL its name (without ".dll", which
-// LoadLibraryA appends) and its functions' names, each NUL-terminated, an
-// empty name after the last function; an empty DLL name ends the list. The
-// function addresses go into consecutive IAT slots, one slot skipped after
-// each DLL (the null that ends its table in intro.exe's layout).
+// LoadLibraryA appends), NUL-terminated, the number of its functions (a
+// byte) and each function's name_hash() (4 bytes); an empty DLL name ends
+// the list. Each function is the DLL's first exported name with that hash
+// (the export directory: PE/COFF's data directory 0, at offset 0x88 of a
+// PE32+ header; its name count at 0x18, name RVAs at 0x20), and its
+// address GetProcAddress's for that name (which follows forwarded exports).
+// The addresses go into consecutive IAT slots, one slot skipped after each
+// DLL (the null that ends its table in intro.exe's layout).
 // `used`: only the asm below calls it, which link-time optimisation cannot see.
 extern "C" [[gnu::used]] void* stub_main() {
   unsigned char* base = __ImageBase;
   rt64k::pack::decode(rt64k_payload.encoded, base + kImageRva, rt64k_payload.image_bytes, work);
   auto* slot = reinterpret_cast<FARPROC*>(base + rt64k_payload.iat_rva);
-  for (auto* name = reinterpret_cast<const char*>(base + rt64k_payload.imports_rva); *name != 0;
-       ++name, ++slot) {
-    HMODULE dll = LoadLibraryA(name);
+  for (unsigned char* p = base + rt64k_payload.imports_rva; *p != 0; ++slot) {
+    auto* dll = reinterpret_cast<unsigned char*>(LoadLibraryA(reinterpret_cast<char*>(p)));
     if (dll == nullptr) return nullptr;
-    for (name = skip(name); *name != 0; name = skip(name))
-      if ((*slot++ = GetProcAddress(dll, name)) == nullptr) return nullptr;
+    while (*p++ != 0) {
+    }
+    const unsigned char* exports =
+        dll + *reinterpret_cast<unsigned*>(dll + *reinterpret_cast<unsigned*>(dll + 0x3c) + 0x88);
+    const unsigned count = *reinterpret_cast<const unsigned*>(exports + 0x18);
+    const auto* names =
+        reinterpret_cast<const unsigned*>(dll + *reinterpret_cast<const unsigned*>(exports + 0x20));
+    for (unsigned n = *p++; n != 0; --n, p += 4) {
+      unsigned wanted;
+      __builtin_memcpy(&wanted, p, 4);
+      unsigned i = 0;
+      for (;; ++i) {
+        if (i == count) return nullptr;
+        if (name_hash(dll + names[i]) == wanted) break;
+      }
+      *slot =
+          GetProcAddress(reinterpret_cast<HMODULE>(dll), reinterpret_cast<char*>(dll + names[i]));
+      if (*slot++ == nullptr) return nullptr;
+    }
   }
   return base + rt64k_payload.entry_rva;
 }

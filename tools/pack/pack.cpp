@@ -215,6 +215,7 @@ void validate(const Pe& p, const Bytes& file) {
 struct Import {
   unsigned slot;
   std::string dll, name;
+  unsigned hash = 0; // nameHash(name), in what walkList() reads back
 };
 
 // The import directory as the loader reads it: every descriptor, DLL name,
@@ -279,53 +280,76 @@ std::string shortDllName(const std::string& dll) {
   return s;
 }
 
+// The hash by which the stub finds a function among its DLL's exported
+// names (stub.cpp's name_hash(), the same formula): h = 31 h + c over the
+// name's bytes, 32 bits.
+unsigned nameHash(const std::string& name) {
+  unsigned h = 0;
+  for (unsigned char c : name)
+    h = h * 31 + c;
+  return h;
+}
+
 // The compact import list the stub walks instead of the import directory:
-// per DLL, its name and then its functions' names, each NUL-terminated, an
-// empty name ending the DLL; an empty DLL name ending the list. The stub
-// fills the IAT slots in order from the first, skipping one (the
-// terminator of each DLL's address table) after each DLL: the tool checks
-// that the IAT has this layout.
+// per DLL, its name (NUL-terminated), the number of its functions (one
+// byte) and each function's nameHash() (4 bytes, little-endian); an empty
+// DLL name ends the list. The stub fills the IAT slots in order from the
+// first, skipping one (the terminator of each DLL's address table) after
+// each DLL: the tool checks that the IAT has this layout, and that no two
+// functions of a DLL in the list share a hash. A hash could still equal
+// that of another name the DLL exports before the wanted one: with 32 bits
+// and ~1,600 names per DLL, about 4e-7 per function; not checkable here
+// (the DLLs are Windows's).
 std::string importList(const std::vector<Import>& imports) {
   std::string list;
   unsigned slot = imports.empty() ? 0 : imports[0].slot;
+  size_t countAt = 0;
   for (size_t i = 0; i < imports.size(); ++i) {
     const bool first = i == 0 || imports[i].dll != imports[i - 1].dll;
     if (first) {
-      if (i > 0) {
-        list += '\0';
-        slot += 8; // the previous DLL's terminator
-      }
+      if (i > 0) slot += 8; // the previous DLL's terminator
       list += shortDllName(imports[i].dll) + '\0';
+      countAt = list.size();
+      list += '\0';
     }
     if (imports[i].slot != slot)
       fail("the import address tables are not consecutive (one per DLL, each ended by a null "
            "slot): the stub fills them in one run");
-    list += imports[i].name + '\0';
+    if ((unsigned char)list[countAt] == 255) fail("more than 255 functions from one DLL");
+    ++list[countAt];
+    for (size_t j = i; j-- > 0 && imports[j].dll == imports[i].dll;)
+      if (nameHash(imports[j].name) == nameHash(imports[i].name))
+        fail(imports[i].name + " and " + imports[j].name + " have the same hash");
+    const unsigned h = nameHash(imports[i].name);
+    for (unsigned k = 0; k < 4; ++k)
+      list += char(h >> 8 * k);
     slot += 8;
   }
-  if (!imports.empty()) list += '\0';
   list += '\0';
   return list;
 }
 
 // The stub's walk of `list` (at `at` in `image`), as in stub.cpp: the
-// (slot, DLL, function) it would fill. For `check`.
+// (slot, DLL, function's hash) it would fill. For `check`.
 std::vector<Import> walkList(const Bytes& image, unsigned at, unsigned slot) {
   std::vector<Import> out;
-  auto next = [&]() {
-    std::string s;
-    while (true) {
-      if (at >= image.size()) fail("the import list runs past the image");
-      if (image[at] == 0) break;
-      s += char(image[at++]);
-    }
-    ++at;
-    return s;
+  auto byte = [&]() {
+    if (at >= image.size()) fail("the import list runs past the image");
+    return image[at++];
   };
-  for (std::string dll; !(dll = next()).empty(); slot += 8)
-    for (std::string name; !(name = next()).empty(); slot += 8)
-      out.push_back({slot, dll, name});
-  return out;
+  while (true) {
+    std::string dll;
+    for (unsigned char c; (c = byte()) != 0;)
+      dll += char(c);
+    if (dll.empty()) return out;
+    for (unsigned n = byte(); n != 0; --n, slot += 8) {
+      unsigned h = 0;
+      for (unsigned k = 0; k < 4; ++k)
+        h |= unsigned(byte()) << 8 * k;
+      out.push_back({slot, dll, "", h});
+    }
+    slot += 8;
+  }
 }
 
 struct Image {
@@ -514,10 +538,10 @@ int check(const char* originalPath, const char* packedPath) {
       fail("the import list names " + std::to_string(walked.size()) + " functions, the original " +
            std::to_string(im.imports.size()));
     for (size_t i = 0; i < walked.size(); ++i)
-      if (walked[i].slot != im.imports[i].slot || walked[i].name != im.imports[i].name ||
+      if (walked[i].slot != im.imports[i].slot || walked[i].hash != nameHash(im.imports[i].name) ||
           walked[i].dll != shortDllName(im.imports[i].dll))
-        fail("import " + std::to_string(i) + " (" + walked[i].dll + "!" + walked[i].name +
-             ") is not the original's");
+        fail("import " + std::to_string(i) + " (" + walked[i].dll + ", hash " +
+             std::to_string(walked[i].hash) + ") is not the original's " + im.imports[i].name);
     const unsigned importDir = p.dirRva[kDirImport];
     if (importDir < packed.rva || importDir >= packed.rva + packed.virtualSize)
       fail("the packed exe's import directory is not in its second section");
@@ -526,8 +550,8 @@ int check(const char* originalPath, const char* packedPath) {
     const unsigned stubBytes = packed.virtualSize - payloadBytes - importBytes;
     const unsigned padding = packed.rawSize - packed.virtualSize;
     std::printf("rt64k-pack check: %s decodes to %s's %u image bytes: identical but for %u bytes "
-                "of its import directory, replaced by a list of its %zu imports, which name the "
-                "same functions for the same IAT slots\n",
+                "of its import directory, replaced by a list of its %zu imports, which give the "
+                "same functions' hashes for the same IAT slots\n",
                 packedPath, originalPath, bytes, differing, walked.size());
     std::printf("  %zu bytes = headers %u + payload %u (record %u, encoded %u) + stub code and "
                 "constants %u + imports %u + padding %u\n",

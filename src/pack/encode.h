@@ -16,8 +16,8 @@ unsigned encode_with(const model::Params& prm, const unsigned char* in, unsigned
                      unsigned char* out, unsigned capacity, void* work,
                      double* byte_bits = nullptr);
 
-// `prm` with the data region (the constants before the code, where the
-// x86 parse does not run) that two pricing passes find cheapest; none for
+// `prm` with the data region (the constants before the code, one long
+// operand to the x86 parse) that two pricing passes find cheapest; none for
 // inputs under 4,096 bytes. `work`: kWorkBytes zeroed bytes, zeroed again
 // on return.
 model::Params choose_data_region(model::Params prm, const unsigned char* in, unsigned size,

@@ -113,9 +113,6 @@ inline const u8 kTwoByte[64] = {
 // are SSSE3 and later: intro.exe, SSE2 only, has none, so the parse takes
 // them as two-byte opcodes with ModRM; handling them cost ~25 decoder bytes.)
 enum : u8 { kOp, kOp0F, kModrm, kSib, kOperand };
-// The role of every byte of the data region (the constants before the
-// code), where the parse does not run.
-constexpr u32 kData = 5;
 
 // Follows the byte stream as x86-64 code (paq8's exe model and kkrunchy
 // parse instructions to give operand bytes their own contexts). In data it
@@ -214,7 +211,11 @@ struct Predictor {
     x86 = X86{};
     c0 = 1;
     pos = 0;
-    if (data_end) x86.role = kData; // no parse in the data region
+    // The data region (the constants before the code) is one long operand
+    // to the parse: no instructions, and left & 3 is the column in 4-byte
+    // tables (a kData role with no parse cost 16 bytes more and 32 decoder
+    // bytes more).
+    if (data_end) x86.operands(data_end);
     // squash(d) = 4096 / (1 + e^(-d/256)) for d in -2047..2047, stretch
     // units (lpaq1's squash, which interpolates 33 points; here e^(-d/256)
     // steps down from e^(2047/256) in 16.16 fixed point with rounding, for
@@ -253,7 +254,7 @@ struct Predictor {
       for (int j = 0; j < 8; ++j)
         if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
       if (m & kMaskColumn) h = (h ^ (pos & 3)) * 0x2F0B4A13u;
-      if (m & kMaskX86Op) h = (h ^ (x86.role | x86.left << 3 | x86.op << 7)) * 0x2F0B4A13u;
+      if (m & kMaskX86Op) h = (h ^ (x86.role | (x86.left & 7) << 3 | x86.op << 7)) * 0x2F0B4A13u;
       if (m & kMaskX86Modrm) h = (h ^ (x86.role | x86.modrm << 3)) * 0x6F4F2A35u;
       if (m & kMaskX86Prev) h = (h ^ x86.prev) * 0x2F0B4A13u;
       hash[i] = h;
@@ -268,8 +269,10 @@ struct Predictor {
   int* weights_a() const {
     return t->weight[x86.role << 3 | (31 - __builtin_clz(c0)) | (x86.left & 3) << 6];
   }
-  int* weights_b() const { return t->weight[256 + ((hist & 255) << 8 | x86.role | x86.left << 3)]; }
-  u16* apm_row() const { return &t->apm[((x86.role | x86.left << 3) << 8 | c0) * kApmCells]; }
+  int* weights_b() const {
+    return t->weight[256 + ((hist & 255) << 8 | x86.role | (x86.left & 7) << 3)];
+  }
+  u16* apm_row() const { return &t->apm[((x86.role | (x86.left & 7) << 3) << 8 | c0) * kApmCells]; }
 
   int p() {
     i64 sum = 0;
@@ -314,9 +317,9 @@ struct Predictor {
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
       hist = hist << 8 | (c0 & 255);
-      if (pos >= data_end) x86.step(c0 & 255);
+      x86.step(c0 & 255);
       c0 = 1;
-      if (++pos == data_end) x86.role = kOp;
+      ++pos;
       rehash();
     }
   }

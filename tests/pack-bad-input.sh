@@ -82,10 +82,10 @@ expect_check() {
     echo "ok   $name: $(cat "$work/$name.err")"
   fi
 }
-# The payload starts at file offset 512 (the record, 20 bytes, then the
+# The payload starts at file offset 512 (the record, 16 bytes, then the
 # encoded image): a byte 1000 bytes into it flipped decodes to other bytes.
-cp "$packed" "$work/flipped.exe" && patch "$work/flipped.exe" $((512 + 20 + 1000)) 5a
-cmp -s "$packed" "$work/flipped.exe" || expect_check damaged_payload "$work/flipped.exe" "differs"
+cp "$packed" "$work/flipped.exe" && patch "$work/flipped.exe" $((512 + 16 + 1000)) 5a
+cmp -s "$packed" "$work/flipped.exe" || expect_check damaged_payload "$work/flipped.exe" "not the encoding"
 head -c 4096 "$packed" >"$work/short.exe"
 expect_check truncated_packed "$work/short.exe" "truncated"
 # No arguments: usage, exit 2.

@@ -14,102 +14,146 @@
 // compact list of DLL names and function name hashes decoded with the image), then jump to
 // intro.exe's entry point with the stack as the loader left it. Freestanding: no C runtime, no
 // heap.
-#define WIN32_LEAN_AND_MEAN
-#include <windows.h>
-
 #include "codec.h"
 
 // What tools/pack writes at the start of the payload section (its size is
 // tools/pack/pack.cpp's kPayloadHeaderBytes): RVAs are relative to the
 // image base, which the packed exe shares with intro.exe.
 struct Payload {
-  unsigned image_bytes;   // decoded bytes, from RVA 0x1000
-  unsigned entry_rva;     // intro.exe's AddressOfEntryPoint
-  unsigned imports_rva;   // the import list in the decoded image (below)
-  unsigned iat_rva;       // intro.exe's import address table, its first slot
-  unsigned encoded_bytes; // bytes of `encoded` (read by `rt64k-pack check` only)
+  unsigned image_bytes; // decoded bytes, from RVA 0x1000
+  unsigned entry_rva;   // intro.exe's AddressOfEntryPoint
+  unsigned imports_rva; // the import list in the decoded image (below)
+  unsigned iat_rva;     // intro.exe's import address table, its first slot
   unsigned char encoded[1];
 };
 
-// The image base (GNU ld's name, as MSVC's), as bytes: the RVAs index it.
-extern "C" unsigned char __ImageBase[];
-extern "C" const Payload rt64k_payload; // the generated payload file
-static constexpr unsigned kImageRva = 0x1000;
-
 // The codec's model memory: zero-initialised, so .bss: no file bytes (the
 // linker script puts it after the image in the uninitialised section).
-alignas(64) static unsigned char work[rt64k::pack::kWorkBytes];
-
-// The hash of a function's name by which the list names it: h = 31 h + c
-// over its bytes (tools/pack/pack.cpp's nameHash(), the same formula).
-static unsigned name_hash(const unsigned char* s) {
-  unsigned h = 0;
-  while (*s != 0)
-    h = h * 31 + *s++;
-  return h;
+// Global: the asm below names it.
+extern "C" {
+alignas(64) unsigned char rt64k_work[rt64k::pack::kWorkBytes];
 }
 
-// Returns the address to jump to: intro.exe's entry point, or null when a
-// DLL or one of its functions is missing (the entry code below then returns
-// 1 to the loader's thread start, which ends the thread with that code, as
-// the loader's own refusal to start intro.exe would have ended the process).
+// The field offsets the asm below reads.
+static_assert(__builtin_offsetof(Payload, image_bytes) == 0);
+static_assert(__builtin_offsetof(Payload, entry_rva) == 4);
+static_assert(__builtin_offsetof(Payload, imports_rva) == 8);
+static_assert(__builtin_offsetof(Payload, iat_rva) == 12);
+static_assert(__builtin_offsetof(Payload, encoded) == 16);
+
+// The entry point, in asm: its code is not compressed, and GCC's -Os took
+// 301 bytes for it in C++ (stub_start calling a C++ stub_main), this 200-odd.
 //
-// The imports: tools/pack replaced intro.exe's import directory by a list
-// (pack.cpp, importList()): per DLL its name (without ".dll", which
-// LoadLibraryA appends), NUL-terminated, the number of its functions (a
-// byte) and each function's name_hash() (4 bytes); an empty DLL name ends
-// the list. Each function is the DLL's first exported name with that hash
-// (the export directory: PE/COFF's data directory 0, at offset 0x88 of a
-// PE32+ header; its name count at 0x18, name RVAs at 0x20), and its
-// address GetProcAddress's for that name (which follows forwarded exports).
-// The addresses go into consecutive IAT slots, one slot skipped after each
-// DLL (the null that ends its table in intro.exe's layout).
-// `used`: only the asm below calls it, which link-time optimisation cannot see.
-extern "C" [[gnu::used]] void* stub_main() {
-  unsigned char* base = __ImageBase;
-  rt64k::pack::decode(rt64k_payload.encoded, base + kImageRva, rt64k_payload.image_bytes, work);
-  auto* slot = reinterpret_cast<FARPROC*>(base + rt64k_payload.iat_rva);
-  for (unsigned char* p = base + rt64k_payload.imports_rva; *p != 0; ++slot) {
-    auto* dll = reinterpret_cast<unsigned char*>(LoadLibraryA(reinterpret_cast<char*>(p)));
-    if (dll == nullptr) return nullptr;
-    while (*p++ != 0) {
-    }
-    const unsigned char* exports =
-        dll + *reinterpret_cast<unsigned*>(dll + *reinterpret_cast<unsigned*>(dll + 0x3c) + 0x88);
-    const unsigned count = *reinterpret_cast<const unsigned*>(exports + 0x18);
-    const auto* names =
-        reinterpret_cast<const unsigned*>(dll + *reinterpret_cast<const unsigned*>(exports + 0x20));
-    for (unsigned n = *p++; n != 0; --n, p += 4) {
-      unsigned wanted;
-      __builtin_memcpy(&wanted, p, 4);
-      unsigned i = 0;
-      for (;; ++i) {
-        if (i == count) return nullptr;
-        if (name_hash(dll + names[i]) == wanted) break;
-      }
-      *slot =
-          GetProcAddress(reinterpret_cast<HMODULE>(dll), reinterpret_cast<char*>(dll + names[i]));
-      if (*slot++ == nullptr) return nullptr;
-    }
-  }
-  return base + rt64k_payload.entry_rva;
-}
-
-// The entry point (asm: C++ cannot leave the stack as it found it before a
-// jump). The loader calls it with RSP = 8 mod 16; stub_main, a Win64
-// function, needs RSP = 0 mod 16 before its call and 32 bytes of shadow
-// space above its return address: 40 bytes. After it, RSP is the loader's
-// again and the jump enters intro_entry as if the loader had called it.
+// 1. Decode the image into place: decode(rt64k_payload.encoded, __ImageBase
+//    + 0x1000, rt64k_payload.image_bytes, rt64k_work), a Win64 call (RSP 16-
+//    byte aligned, 32 bytes of shadow space: the loader enters with RSP = 8
+//    mod 16; seven pushes and 32 bytes make it 0).
+// 2. The imports: tools/pack replaced intro.exe's import directory by a list
+//    (pack.cpp, importList()): per DLL its name (without ".dll", which
+//    LoadLibraryA appends), NUL-terminated, the number of its functions (a
+//    byte, at least 1) and each function's name hash (4 bytes, h = 31 h + c
+//    over the name's bytes, pack.cpp's nameHash()); an empty DLL name ends
+//    the list. Each function is the first name in the DLL's export
+//    directory (PE/COFF data directory 0, at offset 0x88 of a PE32+ header;
+//    its name count at 0x18, its name RVAs at 0x20) with that hash, and its
+//    address what GetProcAddress gives for that name (which follows
+//    forwarded exports). The addresses go into consecutive IAT slots
+//    (stosq: the direction flag is clear in the Win64 convention), one slot
+//    skipped after each DLL (scasq: the null that ends its table in
+//    intro.exe's layout).
+// 3. Jump to intro.exe's entry point with RSP as the loader left it (the
+//    pushed registers need no restoring: intro_entry never returns; every
+//    way out is ExitProcess).
+// A missing DLL, function name or address: the registers and RSP restored,
+// return 1 to the loader's thread start, which ends the thread with that
+// code, as the loader's own refusal to start intro.exe ends the process.
 __asm__(".section .text$stub_start,\"x\"\n"
         ".globl stub_start\n"
         "stub_start:\n"
-        "  subq $40, %rsp\n"
-        "  call stub_main\n"
-        "  addq $40, %rsp\n"
+        "  pushq %rbx\n"
+        "  pushq %rbp\n"
+        "  pushq %rdi\n"
+        "  pushq %rsi\n"
+        "  pushq %r12\n"
+        "  pushq %r13\n"
+        "  pushq %r14\n"
+        "  subq $32, %rsp\n"
+        "  leaq __ImageBase(%rip), %rbp\n"
+        "  leaq rt64k_payload+16(%rip), %rcx\n"
+        "  leaq 0x1000(%rbp), %rdx\n"
+        "  movl rt64k_payload(%rip), %r8d\n"
+        "  leaq rt64k_work(%rip), %r9\n"
+        "  call _ZN5rt64k4pack6decodeEPKhPhjPv\n"
+        "  movl rt64k_payload+8(%rip), %ebx\n"
+        "  addq %rbp, %rbx\n" // rbx: the list
+        "  movl rt64k_payload+12(%rip), %edi\n"
+        "  addq %rbp, %rdi\n" // rdi: the next IAT slot
+        "1:\n"                // a DLL
+        "  cmpb $0, (%rbx)\n"
+        "  je 7f\n"
+        "  movq %rbx, %rcx\n"
+        "  call *__imp_LoadLibraryA(%rip)\n"
         "  testq %rax, %rax\n"
-        "  jz 1f\n"
+        "  jz 8f\n"
+        "  movq %rax, %rsi\n" // rsi: the DLL's base
+        "2:\n"
+        "  incq %rbx\n"
+        "  cmpb $0, -1(%rbx)\n"
+        "  jne 2b\n"
+        "  movzbl (%rbx), %r12d\n" // r12: functions left
+        "  incq %rbx\n"
+        "  movl 0x3c(%rsi), %eax\n"
+        "  movl 0x88(%rsi,%rax), %eax\n"
+        "  movl 0x18(%rsi,%rax), %r14d\n" // r14: exported names
+        "  movl 0x20(%rsi,%rax), %r13d\n"
+        "  addq %rsi, %r13\n" // r13: their RVAs
+        "3:\n"                // a function
+        "  decl %r12d\n"      // from at most 255: negative after the last
+        "  js 6f\n"
+        "  xorl %ecx, %ecx\n"
+        "4:\n" // the next exported name
+        "  cmpl %r14d, %ecx\n"
+        "  je 8f\n"
+        "  movl (%r13,%rcx,4), %edx\n"
+        "  addq %rsi, %rdx\n"
+        "  incl %ecx\n"
+        "  xorl %eax, %eax\n"
+        "  movq %rdx, %r8\n"
+        "5:\n" // its hash
+        "  movzbl (%r8), %r9d\n"
+        "  incq %r8\n"
+        "  testl %r9d, %r9d\n"
+        "  jz 9f\n"
+        "  imull $31, %eax, %eax\n"
+        "  addl %r9d, %eax\n"
+        "  jmp 5b\n"
+        "9:\n"
+        "  cmpl (%rbx), %eax\n"
+        "  jne 4b\n"
+        "  movq %rsi, %rcx\n"
+        "  call *__imp_GetProcAddress(%rip)\n"
+        "  testq %rax, %rax\n"
+        "  jz 8f\n"
+        "  stosq\n"
+        "  addq $4, %rbx\n"
+        "  jmp 3b\n"
+        "6:\n"
+        "  scasq\n"
+        "  jmp 1b\n"
+        "7:\n"
+        "  movl rt64k_payload+4(%rip), %eax\n"
+        "  addq %rbp, %rax\n"
+        "  addq $88, %rsp\n"
         "  jmp *%rax\n"
-        "1:\n"
+        "8:\n"
+        "  addq $32, %rsp\n"
+        "  popq %r14\n"
+        "  popq %r13\n"
+        "  popq %r12\n"
+        "  popq %rsi\n"
+        "  popq %rdi\n"
+        "  popq %rbp\n"
+        "  popq %rbx\n"
         "  movl $1, %eax\n"
         "  ret\n"
         ".text\n");

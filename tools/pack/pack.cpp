@@ -38,9 +38,9 @@ constexpr unsigned kDirImport = 1, kDirIat = 12;
 constexpr unsigned kScnUninitialised = 0x80;
 constexpr unsigned kScnRwx = 0xe0000000; // MEM_EXECUTE | MEM_READ | MEM_WRITE
 constexpr unsigned long long kOrdinalFlag = 1ull << 63;
-// The payload record stub.cpp reads: five 32-bit fields, then the encoded
+// The payload record stub.cpp reads: four 32-bit fields, then the encoded
 // bytes (struct Payload).
-constexpr unsigned kPayloadHeaderBytes = 20;
+constexpr unsigned kPayloadHeaderBytes = 16;
 // More than any image the packed exe could hold (the 64 kB limit).
 constexpr unsigned kMaxImageBytes = 1u << 24;
 
@@ -446,14 +446,24 @@ unsigned peChecksum(const Bytes& file) {
   return unsigned(sum + file.size());
 }
 
+// The encoded image of `im` (what the stub decodes): the codec is
+// deterministic, so `check` encodes again to find the payload's length.
+Bytes encodeImage(const Image& im) {
+  const unsigned bytes = im.end - kImageRva;
+  Bytes encoded(bytes + bytes / 4 + 4096), work(rt64k::pack::kWorkBytes, 0);
+  const unsigned n = rt64k::pack::encode(&im.packed[kImageRva], bytes, encoded.data(),
+                                         unsigned(encoded.size()), work.data());
+  if (n == 0) fail("the codec's output did not fit " + std::to_string(encoded.size()) + " bytes");
+  encoded.resize(n);
+  return encoded;
+}
+
 int pack(const char* inPath, const char* outPath) {
   const Image im = load(inPath);
   const unsigned bytes = im.end - kImageRva;
   const unsigned char* body = &im.packed[kImageRva];
-  Bytes encoded(bytes + bytes / 4 + 4096), work(rt64k::pack::kWorkBytes, 0);
-  const unsigned n =
-      rt64k::pack::encode(body, bytes, encoded.data(), unsigned(encoded.size()), work.data());
-  if (n == 0) fail("the codec's output did not fit " + std::to_string(encoded.size()) + " bytes");
+  const Bytes encoded = encodeImage(im);
+  const unsigned n = unsigned(encoded.size());
   // The stub must get back what went in: decode here first, natively.
   if (decodeNative(encoded.data(), n, bytes) != Bytes(body, body + bytes))
     fail("internal error: the codec does not round-trip this image");
@@ -464,8 +474,7 @@ int pack(const char* inPath, const char* outPath) {
   s += "  .space " + std::to_string(im.pe.sizeOfImage - kImageRva) + "\n";
   s += "  .section .rt64k_payload,\"dr\"\n  .globl rt64k_payload\nrt64k_payload:\n";
   s += "  .long " + std::to_string(bytes) + ", " + std::to_string(im.pe.entryRva) + ", " +
-       std::to_string(im.listRva) + ", " + std::to_string(im.iatRva) + ", " + std::to_string(n) +
-       "\n";
+       std::to_string(im.listRva) + ", " + std::to_string(im.iatRva) + "\n";
   for (unsigned i = 0; i < n; i += 32) {
     s += "  .byte ";
     for (unsigned j = i; j < n && j < i + 32; ++j)
@@ -512,13 +521,18 @@ int check(const char* originalPath, const char* packedPath) {
       fail("the packed exe's second section does not follow the headers");
     const unsigned char* payload = &file[packed.rawOffset];
     auto field = [&](unsigned i) { return read32(file, packed.rawOffset + 4 * i); };
-    const unsigned bytes = field(0), entry = field(1), list = field(2), iat = field(3),
-                   encodedBytes = field(4);
+    const unsigned bytes = field(0), entry = field(1), list = field(2), iat = field(3);
     if (bytes != im.end - kImageRva || entry != o.entryRva || list != im.listRva ||
         iat != im.iatRva)
       fail("the payload record (size, entry, import list, IAT) does not match the original");
+    // The record does not hold the payload's length: the same encoding
+    // again gives it, and the payload must be those bytes.
+    const Bytes expected = encodeImage(im);
+    const unsigned encodedBytes = unsigned(expected.size());
     if (kPayloadHeaderBytes + encodedBytes > packed.rawSize)
       fail("the payload runs past its section");
+    if (std::memcmp(payload + kPayloadHeaderBytes, expected.data(), encodedBytes) != 0)
+      fail("the payload is not the encoding of the original's image");
     const Bytes decoded = decodeNative(payload + kPayloadHeaderBytes, encodedBytes, bytes);
     // Byte for byte the original except for its import directory's
     // structures: zero, the IAT to be filled by the stub, and the list.

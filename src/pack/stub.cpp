@@ -42,7 +42,7 @@ static_assert(__builtin_offsetof(Payload, iat_rva) == 12);
 static_assert(__builtin_offsetof(Payload, encoded) == 16);
 
 // The entry point, in asm: its code is not compressed, and GCC's -Os took
-// 301 bytes for it in C++ (stub_start calling a C++ stub_main), this 200-odd.
+// 301 bytes for it in C++ (an asm stub_start calling a C++ function), this 256.
 //
 // 1. Decode the image into place: decode(rt64k_payload.encoded, __ImageBase
 //    + 0x1000, rt64k_payload.image_bytes, rt64k_work), a Win64 call (RSP 16-

@@ -306,10 +306,11 @@ struct Predictor {
   void update(int y) {
     for (int i = 0; i < n; ++i)
       counter_update(cur[i], y);
-    int err = ((y << 12) - pmix) * 10; // the learning rate (tuned: 8-12 best)
+    int err =
+        (y << 12) - pmix; // the learning rate: 1/2048 (tuned: 6/16384 +10 bytes, 10/16384 +15)
     for (int i = 0; i <= n; ++i) {
-      wa[i] += (in[i] * err) >> 14;
-      wb[i] += (in[i] * err) >> 14;
+      wa[i] += (in[i] * err) >> 11;
+      wb[i] += (in[i] * err) >> 11;
     }
     // SSE: move the nearer cell toward the bit (rate 1/32; 1/16 and 1/64 cost more).
     u16* r = apm + apm_at + (apm_w >> 8);

@@ -43,7 +43,8 @@ constexpr int kApmCells = 33;              // stretch(p) in 33 steps of 128 from
 
 // Model mask bits: bits 0-7 put byte -1..-8 in the context; the others
 // add derived contexts.
-constexpr u32 kMaskColumn = 1u << 8;    // position & 3 (4-byte float tables)
+// (bit 8, position & 3 for 4-byte tables, went when the data region came:
+// the mask search stopped using it)
 constexpr u32 kMaskX86Op = 1u << 9;     // x86 parse: the next byte's role, the opcode
 constexpr u32 kMaskX86Modrm = 1u << 10; // x86 parse: the role and the ModRM byte
 constexpr u32 kMaskX86Prev = 1u << 11;  // x86 parse: the previous instruction's opcode
@@ -253,7 +254,6 @@ struct Predictor {
       u32 h = (m + 1) * 0x9E3779B1u;
       for (int j = 0; j < 8; ++j)
         if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
-      if (m & kMaskColumn) h = (h ^ (pos & 3)) * 0x2F0B4A13u;
       if (m & kMaskX86Op) h = (h ^ (x86.role | (x86.left & 7) << 3 | x86.op << 7)) * 0x2F0B4A13u;
       if (m & kMaskX86Modrm) h = (h ^ (x86.role | x86.modrm << 3)) * 0x6F4F2A35u;
       if (m & kMaskX86Prev) h = (h ^ x86.prev) * 0x2F0B4A13u;
@@ -306,10 +306,11 @@ struct Predictor {
   void update(int y) {
     for (int i = 0; i < n; ++i)
       counter_update(cur[i], y);
-    int err = ((y << 12) - pmix) * 10; // the learning rate (tuned: 8-12 best)
+    int err =
+        (y << 12) - pmix; // the learning rate: 1/2048 (tuned: 6/16384 +10 bytes, 10/16384 +15)
     for (int i = 0; i <= n; ++i) {
-      wa[i] += (in[i] * err) >> 14;
-      wb[i] += (in[i] * err) >> 14;
+      wa[i] += (in[i] * err) >> 11;
+      wb[i] += (in[i] * err) >> 11;
     }
     // SSE: move the nearer cell toward the bit (rate 1/32; 1/16 and 1/64 cost more).
     u16* r = apm + apm_at + (apm_w >> 8);

@@ -1,8 +1,9 @@
 # ctest: builds the `compo` target and checks the zip holds intro.exe (the
-# same bytes as EXPECTED_EXE: the UPX-packed build/win32/intro-upx.exe where
-# UPX was found, else build/win32/intro.exe), rt64k.nfo (with that size in
+# same bytes as EXPECTED_EXE: the shipped packed build/win32/intro-shipped.exe,
+# the smaller of UPX's and our own packer's), rt64k.nfo (with that size and
+# the packer PACKER_NOTE names in
 # it) and an 800x600 PNG screenshot.
-#   cmake -DBUILD=<build dir> -DEXPECTED_EXE=<exe> -P compo-test.cmake
+#   cmake -DBUILD=<build dir> -DEXPECTED_EXE=<exe> -DPACKER_NOTE=<note> -P compo-test.cmake
 execute_process(COMMAND ${CMAKE_COMMAND} --build ${BUILD} --target compo
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
 if(NOT rc EQUAL 0)
@@ -44,10 +45,12 @@ file(READ ${check}/screenshot.png head LIMIT 24 HEX)
 if(NOT head MATCHES "^89504e470d0a1a0a0000000d49484452000003200000025[8]$")
   message(FATAL_ERROR "screenshot.png is not an 800x600 PNG (header ${head})")
 endif()
-if(expectedName STREQUAL "intro-upx.exe")
-  string(FIND "${nfo}" "packed with UPX 3.94 (${rawSize} bytes unpacked)" at)
-  if(at LESS 0 OR NOT size LESS rawSize)
-    message(FATAL_ERROR "the zip's intro.exe (${size} bytes) is not the packed exe, or rt64k.nfo does not say it is packed")
+if(expectedName STREQUAL "intro-shipped.exe")
+  file(STRINGS "${PACKER_NOTE}" packer LIMIT_COUNT 1)
+  string(FIND "${nfo}" "packed (${rawSize} bytes unpacked)" at)
+  string(FIND "${nfo}" "packer     : ${packer}" atPacker)
+  if(at LESS 0 OR atPacker LESS 0 OR NOT size LESS rawSize)
+    message(FATAL_ERROR "the zip's intro.exe (${size} bytes) is not the packed exe, or rt64k.nfo does not say it is packed and by ${packer}")
   endif()
 endif()
-message(STATUS "rt64k.zip: intro.exe (${expectedName}, ${size} bytes; unpacked ${rawSize}), rt64k.nfo, screenshot.png 800x600")
+message(STATUS "rt64k.zip: intro.exe (${expectedName}, ${packer}, ${size} bytes; unpacked ${rawSize}), rt64k.nfo, screenshot.png 800x600")

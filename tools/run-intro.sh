@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds intro.exe and runs it under Wine (on Windows, double-click the exe).
-# Installs what is missing first (Debian packages, UPX). Runs the UPX-packed
-# exe, the one the compo zip ships, where UPX is installed. Extra arguments go
+# Installs what is missing first (Debian packages, UPX). Runs the shipped
+# packed exe (intro-shipped.exe: the smaller of UPX's and our own packer's,
+# the one the compo zip ships). Extra arguments go
 # to the intro (e.g. /t:40 /hold, /f, /once, /mute). With no X display (a
 # headless machine) it runs under a virtual X server for RT64K_SECONDS
 # (default 20) seconds, checks the intro is still running, and saves a
@@ -17,11 +18,12 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" --target intro_exe -j"$(nproc)" >/dev/null
 exe=$PWD/$build/win32/intro.exe
 [ "${build:0:1}" = / ] && exe=$build/win32/intro.exe
-if [ -f "${exe%.exe}-upx.exe" ]; then
-  echo "intro.exe: $(stat -c %s "${exe%.exe}-upx.exe") bytes packed by UPX ($(stat -c %s "$exe") unpacked)"
-  exe=${exe%.exe}-upx.exe
+if [ -f "${exe%.exe}-shipped.exe" ]; then
+  echo "intro.exe: $(stat -c %s "${exe%.exe}-shipped.exe") bytes packed by" \
+    "$(cat "${exe%.exe}-shipped.txt") ($(stat -c %s "$exe") unpacked)"
+  exe=${exe%.exe}-shipped.exe
 else
-  echo "intro.exe: $(stat -c %s "$exe") bytes (not packed: no UPX)"
+  echo "intro.exe: $(stat -c %s "$exe") bytes (not packed)"
 fi
 wine=$(command -v wine || command -v wine64 || echo /usr/lib/wine/wine64)
 wineserver=$(command -v wineserver || echo /usr/lib/wine/wineserver64)

@@ -5,8 +5,10 @@
 #   RT64K_RENDER_ARGS     the rt64k render options that match the exe's renderer
 #   RT64K_WINE_DIR        build-tree folder for the Wine prefix and the tests' work
 #   RT64K_WINE_REQUIRED   1: a missing tool is a failure instead of a skip
-#   RT64K_PACKED          1: RT64K_INTRO_EXE is the UPX-packed exe (intro-upx.exe),
-#                         which exists only where UPX was installed
+#   RT64K_PACKED          1: RT64K_INTRO_EXE is the shipped packed exe
+#                         (intro-shipped.exe: the smaller of UPX's and our own
+#                         packer's; RT64K_PACKED_NOTE names its packer);
+#                         ours: our own packer's exe (intro-packed.exe)
 #
 # Each test gets its own Xvfb (a free display number chosen by Xvfb itself,
 # -displayfd) and its own work folder; all tests share one Wine prefix inside
@@ -75,11 +77,13 @@ find_tools() {
   done
   [ -z "$missing" ] || skip "missing:$missing"
   if [ ! -f "$RT64K_INTRO_EXE" ]; then
-    [ "${RT64K_PACKED:-0}" = 1 ] &&
-      skip "no packed exe at $RT64K_INTRO_EXE: UPX is not installed (tools/install-deps.sh intro)"
+    [ "${RT64K_PACKED:-0}" != 0 ] && fail "no packed exe at $RT64K_INTRO_EXE (built with intro.exe)"
     fail "no intro.exe at $RT64K_INTRO_EXE"
   fi
-  [ "${RT64K_PACKED:-0}" = 1 ] && echo "testing the UPX-packed exe: $(stat -c %s "$RT64K_INTRO_EXE") bytes"
+  [ "${RT64K_PACKED:-0}" = 1 ] &&
+    echo "testing the shipped packed exe ($(cat "$RT64K_PACKED_NOTE")): $(stat -c %s "$RT64K_INTRO_EXE") bytes"
+  [ "${RT64K_PACKED:-0}" = ours ] &&
+    echo "testing our own packer's exe: $(stat -c %s "$RT64K_INTRO_EXE") bytes"
 }
 
 # Milliseconds since the epoch.
@@ -149,6 +153,7 @@ prepare_prefix() {
 setup() {
   find_tools
   [ "${RT64K_PACKED:-0}" = 1 ] && TEST_NAME="$TEST_NAME-packed"
+  [ "${RT64K_PACKED:-0}" = ours ] && TEST_NAME="$TEST_NAME-ours"
   WORK="$RT64K_WINE_DIR/work/$TEST_NAME"
   rm -rf "$WORK"
   mkdir -p "$WORK"

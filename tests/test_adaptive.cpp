@@ -297,6 +297,32 @@ TEST(AdaptiveFrame, StraightSilhouetteIsTracedAlongItsEdge) {
   EXPECT_EQ(img.pixels, full.pixels); // flat colours on both sides: exact
 }
 
+// One render of `s` at n x n in `mode` (one thread) with its kinds map and
+// ray counts, against the full trace of the same scene.
+struct AgainstFull {
+  std::vector<uint8_t> kinds;
+  RayStats stats;
+  size_t traced = 0; // pixels traced one by one
+  FrameError error;  // against the full trace
+};
+AgainstFull render_against_full(const Scene& s, int n, Mode mode = Mode::Adaptive) {
+  AgainstFull r;
+  Image img(n, n), full(n, n);
+  r.kinds.assign(size_t(n) * size_t(n), kUnset);
+  RenderOptions opt;
+  opt.threads = 1;
+  opt.mode = mode;
+  opt.kinds = r.kinds.data();
+  render_frame(s, img, opt, &r.stats);
+  RenderOptions fo;
+  fo.mode = Mode::Full;
+  render_frame(s, full, fo, nullptr);
+  for (uint8_t kind : r.kinds)
+    r.traced += (kind & kKindMask) == kTraced;
+  r.error = compare_images(full, img);
+  return r;
+}
+
 // Small blocks whose records differ are interpolated when their corners'
 // colours span at most kSmallContrast per channel: 32/255 at the minimum
 // size (2 px), 16/255 up to twice it; else split down to 2 px and traced
@@ -320,28 +346,14 @@ TEST(AdaptiveFrame, SmallBlocksOfCloseColoursAreInterpolated) {
       scene_add(s,
                 make_triangle(v3(0.37f * 10, -1000, 10), v3(0.37f * 10, 1000, 10), v3(1000, 0, 10)),
                 flat);
-      Image img(kN, kN), full(kN, kN);
-      std::vector<uint8_t> kinds(kN * kN, kUnset);
-      RenderOptions opt;
-      opt.threads = 1;
-      opt.mode = mode;
-      opt.kinds = kinds.data();
-      RayStats stats;
-      render_frame(s, img, opt, &stats);
-      RenderOptions fo;
-      fo.mode = Mode::Full;
-      render_frame(s, full, fo, nullptr);
-      size_t traced = 0;
-      for (uint8_t kind : kinds)
-        traced += (kind & kKindMask) == kTraced;
-      FrameError e = compare_images(full, img);
+      AgainstFull r = render_against_full(s, kN, mode);
       if (contrast <= 32 && mode == Mode::Adaptive) {
-        EXPECT_EQ(traced, 0u) << "contrast " << contrast;
-        EXPECT_LE(e.maxError, contrast);
-        samples[k] = stats.primary;
+        EXPECT_EQ(r.traced, 0u) << "contrast " << contrast;
+        EXPECT_LE(r.error.maxError, contrast);
+        samples[k] = r.stats.primary;
       } else {
-        EXPECT_GE(traced, size_t(kN)) << "contrast " << contrast; // along the edge
-        EXPECT_EQ(e.maxError, 0);
+        EXPECT_GE(r.traced, size_t(kN)) << "contrast " << contrast; // along the edge
+        EXPECT_EQ(r.error.maxError, 0);
       }
     }
   }
@@ -401,32 +413,20 @@ TEST(AdaptiveFrame, FaintShadowEdgesAreInterpolated) {
         scene_add(s, make_triangle(v3(edge, -1000, 9), v3(edge, 1000, 9), v3(1000, 0, 9)), dark);
       }
       scene_add_light(s, v3(0, 0, -1e4f), v3(float(contrast) / 255));
-      Image img(kN, kN), full(kN, kN);
-      std::vector<uint8_t> kinds(kN * kN, kUnset);
-      RenderOptions opt;
-      opt.threads = 1;
-      opt.kinds = kinds.data();
-      render_frame(s, img, opt, nullptr);
-      RenderOptions fo;
-      fo.mode = Mode::Full;
-      render_frame(s, full, fo, nullptr);
-      size_t traced = 0;
-      for (uint8_t kind : kinds)
-        traced += (kind & kKindMask) == kTraced;
-      FrameError e = compare_images(full, img);
-      int deepest = deepest_sample(kinds, kN);
+      AgainstFull r = render_against_full(s, kN);
+      int deepest = deepest_sample(r.kinds, kN);
       if (!shadow) {
         EXPECT_EQ(deepest, 2) << "object edge"; // 4-px blocks split
         continue;
       }
       EXPECT_EQ(deepest, contrast <= 8 ? 0 : contrast <= 24 ? 1 : 2) << "contrast " << contrast;
       if (contrast <= 32) {
-        EXPECT_EQ(traced, 0u) << "contrast " << contrast;
-        EXPECT_LE(e.maxError, contrast) << "contrast " << contrast;
-        EXPECT_GT(e.maxError, 0) << "contrast " << contrast; // the edge was interpolated
+        EXPECT_EQ(r.traced, 0u) << "contrast " << contrast;
+        EXPECT_LE(r.error.maxError, contrast) << "contrast " << contrast;
+        EXPECT_GT(r.error.maxError, 0) << "contrast " << contrast; // the edge was interpolated
       } else {
-        EXPECT_GE(traced, size_t(kN)) << "contrast " << contrast; // along the edge
-        EXPECT_EQ(e.maxError, 0);
+        EXPECT_GE(r.traced, size_t(kN)) << "contrast " << contrast; // along the edge
+        EXPECT_EQ(r.error.maxError, 0);
       }
     }
   }
@@ -459,22 +459,10 @@ TEST(AdaptiveFrame, EdgesSeenThroughGlassSplitAtFourPixels) {
       glass.ior = 1;
       scene_add(s, make_triangle(v3(-1000, -1000, 5), v3(1000, -1000, 5), v3(0, 1000, 5)), glass);
     }
-    Image img(kN, kN), full(kN, kN);
-    std::vector<uint8_t> kinds(kN * kN, kUnset);
-    RenderOptions opt;
-    opt.threads = 1;
-    opt.kinds = kinds.data();
-    render_frame(s, img, opt, nullptr);
-    RenderOptions fo;
-    fo.mode = Mode::Full;
-    render_frame(s, full, fo, nullptr);
-    size_t traced = 0;
-    for (uint8_t kind : kinds)
-      traced += (kind & kKindMask) == kTraced;
-    FrameError e = compare_images(full, img);
-    EXPECT_EQ(traced, 0u) << "pane " << pane;
-    EXPECT_EQ(deepest_sample(kinds, kN), pane ? 2 : 1) << "pane " << pane;
-    EXPECT_LE(e.maxError, 13) << "pane " << pane; // the edge's 12/255, rounding
+    AgainstFull r = render_against_full(s, kN);
+    EXPECT_EQ(r.traced, 0u) << "pane " << pane;
+    EXPECT_EQ(deepest_sample(r.kinds, kN), pane ? 2 : 1) << "pane " << pane;
+    EXPECT_LE(r.error.maxError, 13) << "pane " << pane; // the edge's 12/255, rounding
   }
 }
 

@@ -78,9 +78,8 @@ constexpr int kEstimateContrast = 8;
 // unrecorded (deeper than kRecordDepth, or reflections weaker than
 // kRecordWeight): most of the flicker was in glass blocks interpolated from
 // corners whose colours differ. Measured in docs/speed-vs-error.md (before
-// the third round: split down to 4 px whatever the colours; 24 at the
-// minimum size until round eight).
-constexpr int kGlassContrast[2] = {16, 32};
+// the third round: split down to 4 px whatever the colours).
+constexpr int kGlassContrast[2] = {16, 24};
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
@@ -94,31 +93,6 @@ constexpr int kGlassContrast[2] = {16, 32};
 // -19 % samples, flicker as before; third round, 32 and 16, spending the
 // flicker that the glass rule's change saves).
 constexpr int kSmallContrast[2] = {32, 16};
-
-// ... but a block of twice the minimum size (4 px) whose corners see a
-// transparent object (any corner, any recorded depth) is interpolated over
-// differing records only within kSmallContrastInGlass / 255 (round eight).
-constexpr int kSmallContrastInGlass = 6;
-
-// A block whose corners' records differ only in shadow codes (the same
-// objects along every path, the same highlight bits) is interpolated where
-// no colour channel of its corners spans more than kShadowContrast[0] / 255
-// (blocks larger than twice the minimum size, up to kMaxInterpolated) or
-// kShadowContrast[1] / 255 (up to twice it): the edge of a shadow is a
-// gradient of the light's term across it (soft where the light grazes,
-// faint behind glass and on surfaces of small diffuse factor), and where
-// the corners are that close it is too faint to be worth splitting.
-// Round eight, measured in docs/speed-vs-error.md with kGlassContrast[1]
-// 24 -> 32 and kSmallContrastInGlass, which buy its flicker back.
-constexpr int kShadowContrast[2] = {8, 24};
-
-// The shadow-code bits of a PathRecord node (trace.h): 2 bits per light
-// from bit 5 + 3 i, for the nine lights a node has room for.
-constexpr i32 shadow_bits(int lights) {
-  return lights ? 3 << (5 + 3 * (lights - 1)) | shadow_bits(lights - 1) : 0;
-}
-constexpr i32 kShadowBits = shadow_bits(9);
-static_assert(kShadowBits == 0x6db6db60, "2 bits per light from bit 5, every 3 bits");
 
 // A block wider or taller than kMaxInterpolated pixels is copied (four equal
 // colours and records) or split, never interpolated, and the midpoints of
@@ -381,63 +355,33 @@ RT64K_COLD RT64K_HOT_ABI void interpolate(const AdaptiveFrame& f, const Node& b,
       f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
 }
 
-// True when one of the samples' records shows a transparent object.
-RT64K_COLD RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample* const* s, int n) {
-  for (int k = 0; k < n; ++k)
-    for (int i = 0; i < s[k]->path.count; ++i) {
-      int id = (int)(s[k]->path.node[i] & 31) - 1;
-      if (id >= 0 && f.scene->objects[id].mat.transmit > 0) return true;
-    }
+RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
+  for (int i = 0; i < s.path.count; ++i) {
+    int id = (int)(s.path.node[i] & 31) - 1;
+    if (id >= 0 && f.scene->objects[id].mat.transmit > 0) return true;
+  }
   return false;
 }
 
-// The largest span of a colour channel over the four samples, 0..255 (a
-// block's corners are close within limit / 255 when it is at most limit).
-// SSE2: per byte the largest and smallest of the four colours (two lane
-// swaps each), their difference (the alpha bytes are all 255: span 0), then
-// the largest of the word's four bytes.
-RT64K_HOT_ABI int contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d) {
+// True when no colour channel of the four samples spans more than
+// limit / 255. SSE2: per byte the largest and smallest of the four colours
+// (two lane swaps each), their difference less `limit`, saturating at 0.
+RT64K_HOT_ABI bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d,
+                                int limit) {
   v4i v = {(i32)a.packed, (i32)b.packed, (i32)c.packed, (i32)d.packed};
   v16c hi = __builtin_ia32_pmaxub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   v16c lo = __builtin_ia32_pminub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   hi = __builtin_ia32_pmaxub128(hi, (v16c)__builtin_ia32_pshufd((v4i)hi, 0xb1));
   lo = __builtin_ia32_pminub128(lo, (v16c)__builtin_ia32_pshufd((v4i)lo, 0xb1));
-  v4i span = (v4i)__builtin_ia32_psubusb128(hi, lo);
-  span = (v4i)__builtin_ia32_pmaxub128((v16c)span, (v16c)(span >> 8));
-  span = (v4i)__builtin_ia32_pmaxub128((v16c)span, (v16c)(span >> 16));
-  return span[0] & 255;
+  i32 l = limit * 0x01010101;
+  v4i limits = {l, l, l, l};
+  v16c over = __builtin_ia32_psubusb128(__builtin_ia32_psubusb128(hi, lo), (v16c)limits);
+  return (((v4i)over)[0] & 0xffffff) == 0;
 }
 
-// Blocks this size or smaller are traced per pixel (unless close_enough).
+// Blocks this size or smaller are traced per pixel (unless low_contrast).
 RT64K_HOT_ABI bool is_small(const AdaptiveFrame& f, int w, int h) {
   return (w <= f.minBlock && h <= f.minBlock) || (w < 2 && h < 2);
-}
-
-// The four records equal but for their shadow codes (kShadowBits).
-RT64K_HOT_ABI bool shadow_only(const Sample* const* q) {
-  const PathRecord& a = q[0]->path;
-  for (int k = 1; k < 4; ++k) {
-    const PathRecord& b = q[k]->path;
-    if (b.count != a.count) return false;
-    for (int i = 0; i < a.count; ++i)
-      if ((b.node[i] ^ a.node[i]) & (u32)~kShadowBits) return false;
-  }
-  return true;
-}
-
-// A block whose corners' records differ, interpolated all the same
-// (kModeAdaptive) where its corners' colours are close: a small block
-// within kSmallContrast (kSmallContrastInGlass at twice the minimum size
-// where a corner sees glass), and one whose records differ only in shadow
-// codes within kShadowContrast. Blocks larger than kMaxInterpolated split.
-RT64K_HOT_ABI bool close_enough(const AdaptiveFrame& f, const Sample* const* q, int w, int h) {
-  int span = contrast(*q[0], *q[1], *q[2], *q[3]);
-  bool twice = w <= 2 * f.minBlock && h <= 2 * f.minBlock;
-  if (is_small(f, w, h)) return span <= kSmallContrast[0];
-  if (w > kMaxInterpolated || h > kMaxInterpolated) return false;
-  if (twice && span <= kSmallContrast[1] && (span <= kSmallContrastInGlass || !sees_glass(f, q, 4)))
-    return true;
-  return span <= kShadowContrast[twice] && shadow_only(q);
 }
 
 // A small block, traced per pixel. Before the batch (`written` false):
@@ -477,14 +421,21 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];
     const Sample &c01 = n.bottom[0], &c11 = n.bottom[w];
-    const Sample* corners[4] = {&c00, &c10, &c01, &c11};
     n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
-    if (n.kind == kSplit) {
-      if (f.mode == kModeAdaptive && close_enough(f, corners, w, h)) n.kind = kInterpolated;
+    // Small blocks whose records differ: interpolated where the corners'
+    // colours are close (kSmallContrast).
+    if (n.kind == kSplit && f.mode == kModeAdaptive) {
+      int limit = -1;
+      if (is_small(f, w, h))
+        limit = kSmallContrast[0];
+      else if (w <= 2 * f.minBlock && h <= 2 * f.minBlock)
+        limit = kSmallContrast[1];
+      if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
     }
     // Not split: the four records are equal, so c00's stands for all.
-    else if (contrast(c00, c10, c01, c11) > kGlassContrast[is_small(f, w, h)] &&
-             sees_glass(f, corners, 1))
+    else if (n.kind != kSplit &&
+             !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
+             sees_glass(f, c00))
       n.kind = kSplit;
     c.large = w > kMaxInterpolated || h > kMaxInterpolated;
     if (c.large && n.kind == kInterpolated) n.kind = kSplit;

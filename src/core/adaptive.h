@@ -9,17 +9,14 @@
 //   * else                                    -> trace every pixel.
 // Ours beyond the thesis (issue 9, measured in docs/speed-vs-error.md): a
 // block whose corners see glass is filled or interpolated only where its
-// corner colours span at most kGlassContrast per channel (16/255; 32/255 at
+// corner colours span at most kGlassContrast per channel (16/255; 24/255 at
 // minBlock), else split (traced per pixel at minBlock); and when a block splits,
 // the midpoint of a side whose ends have equal records and colours within
 // kEstimateContrast (8/255) is estimated from them instead of traced
 // (adaptive_estimate; kept also where a block is traced per pixel); and a
 // block of up to 2 `minBlock` pixels whose corner colours span at most
-// kSmallContrast per channel (32/255 at minBlock, 16/255 up to twice it;
-// 6/255 there where a corner sees glass) is interpolated even where the
-// records differ (kModeAdaptive only), and so is a block up to 8 px whose
-// records differ only in shadow codes within kShadowContrast (8/255 above
-// twice minBlock, 24/255 up to it); and a
+// kSmallContrast per channel (32/255 at minBlock, 16/255 up to twice it) is
+// interpolated even where the records differ (kModeAdaptive only); and a
 // block larger than 8 pixels (kMaxInterpolated) is copied or split, never
 // interpolated, its sides' midpoints traced (base blocks up to 8 unaffected).
 // A block owns the pixels [x0, x0 + size) x [y0, y0 + size); its right and

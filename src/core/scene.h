@@ -75,7 +75,21 @@ struct Scene {
   alignas(16) float lightFY[kMaxLights][kMaxObjects];
   alignas(16) float lightFZ[kMaxLights][kMaxObjects];
   alignas(16) float lightC[kMaxLights][kMaxObjects];
+  // Bit i set: foreground object i is a closed convex solid (closed_convex(),
+  // shapes.h) and no other foreground object's bound comes within
+  // kAloneSlack of it (of the capsule around its axis, or its sphere): a ray
+  // from inside it meets it before anything else (trace.cpp, trace_tree's
+  // lone-solid shortcut). Filled by scene_add.
+  u32 aloneMask;
 };
+// The capsule around a closed convex object i is widened by kAloneSlack
+// times its bound radius R_i, then the sum with the other bound's radius
+// by as much again, for the rounding of the test: with a ray's origin at
+// most kAloneSlack / 2 R_i off the surface (spawn offsets, trace.cpp) and
+// hit points within the contract's error of the surfaces inside the
+// padded bounds (shapes.h), a segment from inside i to i's exit stays
+// clear of every other foreground bound.
+constexpr float kAloneSlack = 1.0f / 256;
 
 // Appending helpers used by scene builders. Foreground objects must all be
 // added before the first background object.

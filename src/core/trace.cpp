@@ -183,6 +183,10 @@ struct Pending {
 
 // trace_tree's id of a ray whose nearest hit is still to be found.
 constexpr int kFindHit = -2;
+// A waiting ray's skip holds, from this bit, the index + 1 of the one object
+// the lone-solid shortcut tests first (0: none); the bits below are the
+// skipped objects (kMaxObjects = 8 of them).
+constexpr int kOnlyShift = 16;
 
 } // namespace
 
@@ -220,7 +224,16 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   for (;;) {
     const Ray& ray = *cur;
-    if (id == kFindHit) id = nearest(s, ray, hit, all & ~skip, foreground);
+    if (id == kFindHit) {
+      // The lone-solid shortcut (below, at the spawn): skip's bits from
+      // kOnlyShift name the one object to test first.
+      u32 only = skip >> kOnlyShift;
+      hit.t = kHuge;
+      if (only && intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit))
+        id = (int)only - 1;
+      else
+        id = nearest(s, ray, hit, all & ~skip, foreground);
+    }
     u32* node = nullptr;
     PathRecord* rec = ctx.record;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
@@ -290,8 +303,20 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
           float d = dot(D, N);       // spawn_origin's and leaves_for_good's product
           ++ctx.stats.secondary;
           int slot = 2 * depth + 3 - k; // 2 (depth + 1) + 1 for the reflected ray
-          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f,
-                                  leaves_for_good_dot(obj.shape, hit, d) ? self : 0};
+          // A ray that does not leave the object goes into it (N faces the
+          // incoming ray: a refracted ray entering, or one reflected inside).
+          // Into a lone solid (Scene::aloneMask) from an origin at most
+          // kAloneSlack / 2 of its size off the surface, the ray's segment to
+          // the exit stays in the solid's widened capsule, clear of every other
+          // foreground bound: no other foreground hit can be nearer, and with a
+          // foreground hit no background object is tested. So the solid is
+          // tested alone (kOnlyShift); where that finds nothing (rounding at a
+          // rim) the ray searches as any other.
+          u32 skipOrOnly = leaves_for_good_dot(obj.shape, hit, d) ? self
+                           : (s.aloneMask & self) && off <= 0.5f * kAloneSlack * obj.shape.size
+                               ? (u32)(id + 1) << kOnlyShift
+                               : 0;
+          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f, skipOrOnly};
           waiting |= 1u << slot;
         }
       }

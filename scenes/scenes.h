@@ -15,9 +15,10 @@ void build_scene2(Scene& s, float t);
 // The objects that never move, stored as the Shapes their builders give
 // (scenes.cpp names each builder call; tests/test_scenes.cpp checks them
 // bit for bit): intro.exe then needs no plane or triangle builder.
-extern const Shape kLowerCone; // scene 1's lower cone
-extern const Shape kFloor;     // scene 1's floor
-extern const Shape kStage[2];  // scene 2's two triangles
+extern const Shape kLowerCone;  // scene 1's lower cone
+extern const Shape kFloor;      // scene 1's floor
+extern const Shape kStage[2];   // scene 2's two triangles
+extern const Bound kStageBound; // their shared bound (scenes.cpp)
 
 // Maps any finite time onto [0, kTimelineSeconds): the timeline loops forever
 // (negative times count back from the loop's end). Non-finite input gives 0.

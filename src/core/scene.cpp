@@ -13,7 +13,7 @@ void light_terms(Scene& s, int l, int i) {
   s.lightC[l][i] = fx * fx + fy * fy + fz * fz - s.boundR2[i];
 }
 
-void add_object(Scene& s, const Shape& shape, const Material& m) {
+void add_object(Scene& s, const Shape& shape, const Material& m, const Bound* bound = nullptr) {
   int i = s.numObjects++;
   Object& o = s.objects[i];
   // Member by member (no temporary Object to copy); shape_bound sets the
@@ -21,6 +21,10 @@ void add_object(Scene& s, const Shape& shape, const Material& m) {
   o.shape = shape;
   o.mat = m;
   shape_bound(shape, o.boundCentre, o.boundRadius);
+  if (bound) {
+    o.boundCentre = bound->centre;
+    o.boundRadius = bound->radius;
+  }
   if (shape.kind == kEmpty) return; // boundR2 stays -1 (scene_clear): no ray passes
   if (o.boundRadius >= kHuge) {
     s.unboundedMask |= 1u << i;
@@ -83,9 +87,9 @@ void scene_add(Scene& s, const Shape& shape, const Material& m) {
   alone_update(s);
 }
 
-void scene_add_background(Scene& s, const Shape& shape, const Material& m) {
+void scene_add_background(Scene& s, const Shape& shape, const Material& m, const Bound* bound) {
   if (s.numObjects >= kMaxObjects) return;
-  add_object(s, shape, m);
+  add_object(s, shape, m, bound);
 }
 
 void scene_add_light(Scene& s, Vec3 pos, Vec3 color) {

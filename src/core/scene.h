@@ -95,5 +95,14 @@ constexpr float kAloneSlack = 1.0f / 256;
 // added before the first background object.
 void scene_clear(Scene& s);
 void scene_add(Scene& s, const Shape& shape, const Material& m);
-void scene_add_background(Scene& s, const Shape& shape, const Material& m);
+// A bounding sphere a scene gives for a background object instead of
+// shape_bound()'s. It must contain the shape with a margin that covers the
+// bound tests' rounding (scenes.cpp's stage: kStageBound, its test in
+// tests/test_scenes.cpp).
+struct Bound {
+  Vec3 centre;
+  float radius;
+};
+void scene_add_background(Scene& s, const Shape& shape, const Material& m,
+                          const Bound* bound = nullptr);
 void scene_add_light(Scene& s, Vec3 pos, Vec3 color);

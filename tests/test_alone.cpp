@@ -235,6 +235,27 @@ TEST(Alone, HardRaysTraceAsWithoutTheShortcut) {
   EXPECT_EQ(rim.glassFirst, rim.rays); // from inside, the cylinder is hit first
 }
 
+// trace()'s skip names objects only: bits from trace.cpp's kOnlyShift (16)
+// up, which a waiting ray uses to name the lone solid it tests alone, are
+// dropped, so a caller's stray high bits cannot make an object farther
+// along the ray the hit.
+TEST(Alone, CallersSkipHighBitsAreIgnored) {
+  Scene s = base_scene(kPhong, 1, 1);
+  for (int i = 0; i < 5; ++i)
+    scene_add(s, make_sphere(v3(10.0f * (i % 4 != 0) * (float)i, 0, i == 4 ? 8.0f : 3.0f), 1.0f),
+              i ? kGold : kGlass);
+  ASSERT_NE(s.aloneMask & 1u, 0u); // object 0, in front of object 4, is alone
+  Ray ray{v3(0, 0, -2), v3(0, 0, 1)};
+  for (u32 high : {1u << 16, 5u << 16, 0xFFFFu << 16}) {
+    PathRecord ra{}, rb{};
+    TraceContext ca{&s, {0, 0, 0}, &ra}, cb{&s, {0, 0, 0}, &rb};
+    Vec3 x = trace(ca, ray, 1, 1.0f, high), y = trace(cb, ray, 1);
+    EXPECT_EQ(std::memcmp(&x, &y, sizeof x), 0) << high;
+    EXPECT_TRUE(same_path(ra, rb)) << high;
+    EXPECT_EQ(ra.node[0] & 31u, 1u); // object 0 first
+  }
+}
+
 // The scenes' own frames: over 16 frames of both scenes, every pixel of
 // 160x120 (primary rays through trace()) as with the mask cleared. The
 // scenes' glass is alone in most of them: scene 2's cylinders always.

@@ -383,7 +383,8 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
 
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
-  return trace_tree(ctx, ray, kFindHit, hit, depth, weight, skip);
+  // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
+  return trace_tree(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1));
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {

@@ -16,6 +16,7 @@
 // mirror nodes, blue = rays that saw nothing (none while the top mirror is there).
 #include <gtest/gtest.h>
 
+#include <random>
 #include <vector>
 
 #include "trace.h"
@@ -53,19 +54,21 @@ struct Expected {
   int maxWaiting = 0; // refracted rays waiting at once while a node is shaded
   std::vector<u32> record;
 };
+// A ray that has passed through glass (`past`) is recorded at any depth
+// (all weights are 1, above kRecordWeightGlass), the others to kRecordDepth.
 void expect_tree(int gap, bool up, int depth, int maxDepth, bool topMirror, Expected& e,
-                 int waiting = 0) {
+                 int waiting = 0, bool past = false) {
   int plane = up ? gap + 1 : gap;
   if (waiting > e.maxWaiting) e.maxWaiting = waiting;
   bool miss = plane == 3 && !topMirror;
   (miss ? e.misses : is_glass(plane) ? e.glass : e.mirror) += 1;
-  if (depth <= kRecordDepth && (int)e.record.size() < kMaxPathNodes)
+  if ((depth <= kRecordDepth || past) && (int)e.record.size() < kMaxPathNodes)
     e.record.push_back(miss ? 0u : u32(plane + 1));
   if (miss || depth >= maxDepth) return;
-  expect_tree(gap, !up, depth + 1, maxDepth, topMirror, e,
-              waiting + is_glass(plane)); // reflected, its sibling waiting
+  expect_tree(gap, !up, depth + 1, maxDepth, topMirror, e, waiting + is_glass(plane),
+              past); // reflected, its sibling waiting
   if (is_glass(plane))
-    expect_tree(up ? gap + 1 : gap - 1, up, depth + 1, maxDepth, topMirror, e, waiting);
+    expect_tree(up ? gap + 1 : gap - 1, up, depth + 1, maxDepth, topMirror, e, waiting, true);
 }
 
 struct Traced {
@@ -171,6 +174,51 @@ TEST(RayTree, MissesInsideTheTreeAddTheBackgroundAndRecordZero) {
     check_slab(maxDepth, v3(0, 0.5f, 0), v3(0.3f, 1, 0.1f), false);
     check_slab(maxDepth, v3(0, 1.5f, 0), v3(0.1f, -1, 0), false);
   }
+}
+
+// Round nine (trace.h, kRecordWeightGlass): a ray under a refraction is
+// recorded at any depth while its weight is at least kRecordWeightGlass; a
+// ray that never passed through glass only to kRecordDepth, at weight
+// kRecordWeight. Glass planes that transmit t = 0.45 and reflect nothing,
+// mirrors that reflect all. Seeded directions: each tree is the same for
+// every ray of its direction's sign.
+TEST(RayTree, RaysThroughGlassAreRecordedPastTheRecordDepth) {
+  Scene s = slab_scene(5);
+  for (int k : {1, 2}) {
+    s.objects[k].mat.reflect = 0.0f;
+    s.objects[k].mat.transmit = 0.45f;
+  }
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> tilt(-0.6f, 0.6f);
+  for (int i = 0; i < 50; ++i) {
+    Vec3 dir = v3(tilt(rng), 1, tilt(rng));
+    Traced r = trace_slab(s, v3(0, -0.5f, 0), dir);
+    // Up from the bottom gap: glass 1, glass 2 (depth 2, weight t), the top
+    // mirror (depth 3, t^2 = 0.2025: below kRecordWeight, recorded as past
+    // glass), glass 2 again (depth 4, t^2); not glass 1 at depth 5 (t^3).
+    const u32 up[] = {2, 3, 4, 3};
+    ASSERT_EQ(r.record.count, 4) << i;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(r.record.node[k], up[k]) << i << " node " << k;
+    EXPECT_EQ(r.stats.secondary, 4u); // depths 2 .. 5
+    // Down from the middle gap: glass 1, the bottom mirror (depth 2, t),
+    // glass 1 (3, t), glass 2 (4, t^2: recorded past kRecordDepth); not the
+    // top mirror (5, t^3).
+    Traced d = trace_slab(s, v3(0, 0.5f, 0), v3(dir.x, -1, dir.z));
+    const u32 down[] = {2, 1, 2, 3};
+    ASSERT_EQ(d.record.count, 4) << i;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(d.record.node[k], down[k]) << i << " node " << k;
+    EXPECT_EQ(d.stats.secondary, 4u);
+  }
+  // The same planes all opaque mirrors seen from the middle gap: no ray
+  // passes through glass, so nothing past kRecordDepth is recorded.
+  Scene m = slab_scene(5);
+  for (int k : {1, 2})
+    m.objects[k].mat.transmit = 0.0f;
+  Traced r = trace_slab(m, v3(0, 0.5f, 0), v3(0.3f, 1, 0.1f));
+  EXPECT_EQ(r.record.count, kRecordDepth);
+  EXPECT_EQ(r.stats.secondary, 4u);
 }
 
 } // namespace

@@ -78,8 +78,10 @@ constexpr int kEstimateContrast = 8;
 // unrecorded (deeper than kRecordDepth, or reflections weaker than
 // kRecordWeight): most of the flicker was in glass blocks interpolated from
 // corners whose colours differ. Measured in docs/speed-vs-error.md (before
-// the third round: split down to 4 px whatever the colours).
-constexpr int kGlassContrast[2] = {16, 24};
+// the third round: split down to 4 px whatever the colours). Round nine:
+// rays through glass are recorded deeper (trace.h, kRecordWeightGlass), so
+// the edges they see split by records, and the limits rose from {16, 24}.
+constexpr int kGlassContrast[2] = {18, 64};
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel

@@ -179,6 +179,7 @@ struct Pending {
   Ray ray;
   float weight;
   u32 skip;
+  bool pastGlass; // it or a ray above it was refracted (kRecordWeightGlass)
 };
 
 // trace_tree's id of a ray whose nearest hit is still to be found.
@@ -215,6 +216,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
   u32 waiting = 0;
+  bool pastGlass = false; // the ray shaded has passed through glass
   float rootWeight = weight;
   // The ray of the node shaded: the root's, then a waiting ray's own slot
   // (read in place: its children go to the slots of the next depth).
@@ -237,7 +239,9 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     u32* node = nullptr;
     PathRecord* rec = ctx.record;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
-    if (rec && recordable && rec->count < kMaxPathNodes) {
+    // Rays through glass: recorded deeper (trace.h, kRecordWeightGlass).
+    bool records = recordable || (pastGlass && weight >= kRecordWeightGlass);
+    if (rec && records && rec->count < kMaxPathNodes) {
       node = &rec->node[rec->count++];
       *node = (u32)(id + 1);
     }
@@ -316,7 +320,8 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
                            : (s.aloneMask & self) && off <= 0.5f * kAloneSlack * obj.shape.size
                                ? (u32)(id + 1) << kOnlyShift
                                : 0;
-          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f, skipOrOnly};
+          pending[slot] = Pending{Ray{spawn_origin_dot(p, N, d, off), D}, weight * f, skipOrOnly,
+                                  pastGlass || k};
           waiting |= 1u << slot;
         }
       }
@@ -375,6 +380,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     weight = next.weight;
     depth = slot >> 1;
     skip = next.skip;
+    pastGlass = next.pastGlass;
     id = kFindHit;
   }
   // Weights are relative to the root's (1 for a primary ray: no rounding).

@@ -25,6 +25,16 @@ struct RayStats {
 // a highlight's rim are split too, which the thesis's test missed.
 constexpr int kRecordDepth = 3;
 constexpr float kRecordWeight = 0.25f;
+// A ray that has passed through a transparent surface (a refracted ray or
+// any ray under one) is recorded at any depth while its weight is at least
+// kRecordWeightGlass: what glass shows is a small image of what lies behind
+// and around it, and its edges lie deeper than kRecordDepth (scene 1's
+// floor reflection seen through the small sphere is a depth-4 ray of weight
+// 0.43), so blocks across them now split by records rather than by the
+// adaptive renderer's glass contrast rule (docs/speed-vs-error.md, "Round
+// nine: what glass shows, recorded"). Records only: a ray's shadow rays
+// are cast as before (kShadowSkip below), so the full trace is unchanged.
+constexpr float kRecordWeightGlass = 0.2f;
 constexpr float kHighlightEdge = 1.0f / 32;
 constexpr int kMaxPathNodes = 7; // a full binary tree of depth 3
 struct PathRecord {

@@ -780,3 +780,116 @@ TEST(AdaptiveFrame, BlocksViewTintsCopiedRedAndInterpolatedBlue) {
 }
 
 } // namespace
+
+// Round nine's mirror part (trace.h: PathRecord::mirror). A wall facing the
+// camera at z = 10 reflects (reflect 0.25: kMirrorWeight, the stage's) a
+// flat red triangle behind the camera at z = -10, whose edge, tilted, is
+// seen in the mirror along x = 0.1 + 0.1 y (view directions (x, y, 1)):
+// over the 128 rows it passes every offset of the 8-px grid. The wall's
+// records are the same on both sides of the reflected edge (the reflection
+// is not recorded), so only the mirror part's contrast can split there.
+void mirror_scene(Scene& s, Vec3 red = v3(0.75f, 0.2f, 0.1f), float edgeX = 3) {
+  base_scene(s);
+  s.ambient = v3(1);
+  Material wall = matte(v3(0.3f));
+  wall.reflect = kMirrorWeight;
+  Material flat = matte(red);
+  flat.diffuse = 0; // ambient only: one flat colour
+  // Red minus background in the mirror: 0.25 (0.75 - 0.1) = 41/255 in red.
+  scene_add(s,
+            make_triangle(v3(edgeX - 100, -1000, -10), v3(edgeX + 100, 1000, -10),
+                          v3(edgeX + 3000, 0, -10)),
+            flat);
+  scene_add_background(s, make_plane(v3(0, 0, -1), -10), wall);
+  // Lights the wall (smooth diffuse shading, no highlight); casts no
+  // shadow on it (a background object).
+  scene_add_light(s, v3(0, 0, -5), v3(1));
+}
+
+// A sample on the wall: two nodes, the wall and its reflection (weight
+// exactly kMirrorWeight: a mirror node, flagged), and the mirror part the
+// reflected ray's colour times 0.25, within the rounding of two packs.
+TEST(AdaptiveMirror, MirrorPartIsTheReflectionsShare) {
+  Scene s;
+  mirror_scene(s);
+  for (float x : {-0.5f, 0.05f, 0.3f, 0.8f}) {
+    Ray ray = ray_to(v3(x, 0.02f, 1));
+    CornerSample c = sample(s, ray);
+    ASSERT_EQ(c.path.count, 2) << x;
+    EXPECT_EQ(c.path.node[0], 2u) << x; // the wall (index 1), lit, not a mirror node
+    EXPECT_EQ(c.path.node[1] & kMirrorNode, kMirrorNode) << x;
+    Ray bounce{v3(10 * x, 0.2f, 10), normalize(v3(x, 0.02f, -1))};
+    TraceContext ctx{&s, {0, 0, 0}, nullptr};
+    u32 want = pack_color(trace(ctx, bounce, 2, kMirrorWeight) * kMirrorWeight);
+    for (int sh = 0; sh < 24; sh += 8) {
+      int got = int(c.path.mirror >> sh & 255), expect = int(want >> sh & 255);
+      EXPECT_LE(std::abs(got - expect), 1) << x << " channel " << sh;
+    }
+    // The red triangle's side: a red mirror part of 0.25 * 0.75 = 48/255.
+    if (x > 0.2f) {
+      EXPECT_NEAR(int(c.path.mirror >> 16 & 255), 48, 1);
+    }
+  }
+  // A primary ray that misses everything: no mirror part.
+  Scene empty;
+  base_scene(empty);
+  CornerSample m = sample(empty, ray_to(v3(0, 0, 1)));
+  EXPECT_EQ(m.path.mirror & 0xffffffu, 0u);
+}
+
+// The reflected edge of moderate contrast (41/255 in red, the wall's own
+// shading spanning 2-4/255 across a block) stays where the full trace has
+// it: in every row the red channel crosses half-way between its two sides
+// within 1 px of the full trace's crossing (kMirrorContrast 48 instead of
+// 32 interpolates it: 2 px off). The same edge at 10/255 (triangle red
+// 0.14) costs no sample more than the wall alone (the triangle out of
+// view): the rule's saving (undone, the records split its 8-px blocks).
+TEST(AdaptiveMirror, ReflectedEdgeStaysWithinOnePixel) {
+  Scene s;
+  mirror_scene(s);
+  constexpr int kN = 128;
+  Image img(kN, kN), full(kN, kN);
+  std::vector<uint8_t> kinds(kN * kN, kUnset);
+  RenderOptions opt;
+  opt.threads = 2;
+  opt.kinds = kinds.data();
+  RayStats stats;
+  render_frame(s, img, opt, &stats);
+  RenderOptions fo;
+  fo.mode = Mode::Full;
+  render_frame(s, full, fo, nullptr);
+  auto red = [](const Image& im, int x, int y) { return int(im.at(x, y) >> 16 & 255); };
+  int worst = 0, interpolated = 0;
+  for (int y = 0; y < kN; ++y) {
+    // The full trace's edge: its largest step in red between columns 38 and
+    // 72 (the camera's x runs to world -x: the red side is the left).
+    int edge = -1, step = 0;
+    for (int x = 38; x < 72; ++x) {
+      int d = red(full, x, y) - red(full, x + 1, y);
+      if (d > step) step = d, edge = x;
+    }
+    ASSERT_GE(step, 30) << "row " << y; // a moderate edge, not a blur
+    int mid = (red(full, edge - 3, y) + red(full, edge + 4, y)) / 2;
+    auto crossing = [&](const Image& im) {
+      for (int x = edge - 8; x <= edge + 9; ++x)
+        if (red(im, x, y) < mid) return x;
+      return edge + 10;
+    };
+    int off = std::abs(crossing(img) - crossing(full));
+    worst = std::max(worst, off);
+    EXPECT_LE(off, 1) << "row " << y << " full edge at " << edge;
+  }
+  for (uint8_t k : kinds)
+    interpolated += (k & kKindMask) == kInterpolated;
+  EXPECT_GT(interpolated, kN * kN / 2);
+  EXPECT_LE(worst, 1);
+  Scene faint;
+  mirror_scene(faint, v3(0.14f, 0.2f, 0.3f)); // red 0.25 (0.14 - 0.1): 10/255
+  Scene none;
+  mirror_scene(none, v3(0.14f, 0.2f, 0.3f), 1e4f); // the triangle out of view
+  opt.kinds = nullptr;
+  RayStats faintRays{0, 0, 0}, noneRays{0, 0, 0};
+  render_frame(faint, img, opt, &faintRays);
+  render_frame(none, img, opt, &noneRays);
+  EXPECT_EQ(faintRays.primary, noneRays.primary);
+}

@@ -81,15 +81,6 @@ constexpr int kEstimateContrast = 8;
 // the third round: split down to 4 px whatever the colours).
 constexpr int kGlassContrast[2] = {16, 24};
 
-// A block whose corners' records differ only in mirror nodes (trace.h:
-// kMirrorNode; scene 2's stage reflects with weight 0.25) is interpolated
-// where no channel of the corners' mirror parts (PathRecord::mirror) spans
-// more than kMirrorContrast[0] / 255 (blocks over twice minBlock),
-// kMirrorContrast[1] / 255 (up to twice it) or kMirrorContrast[2] / 255
-// (minBlock: 0, traced as before). Round nine (docs/speed-vs-error.md):
-// not kept on main, the measured variant.
-constexpr int kMirrorContrast[3] = {32, 32, 0};
-
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
 // of its corners spans more than kSmallContrast[0] / 255 (minimum size) or
@@ -236,7 +227,7 @@ bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSampl
   // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
   mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
                               (b.packed >> 1 & 0x7f7f7fu));
-  mid.path = a.path; // (and a's mirror part)
+  mid.path = a.path;
   return true;
 }
 
@@ -375,8 +366,9 @@ RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
 // True when no colour channel of the four samples spans more than
 // limit / 255. SSE2: per byte the largest and smallest of the four colours
 // (two lane swaps each), their difference less `limit`, saturating at 0.
-RT64K_HOT_ABI bool low_contrast(u32 a, u32 b, u32 c, u32 d, int limit) {
-  v4i v = {(i32)a, (i32)b, (i32)c, (i32)d};
+RT64K_HOT_ABI bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d,
+                                int limit) {
+  v4i v = {(i32)a.packed, (i32)b.packed, (i32)c.packed, (i32)d.packed};
   v16c hi = __builtin_ia32_pmaxub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   v16c lo = __builtin_ia32_pminub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   hi = __builtin_ia32_pmaxub128(hi, (v16c)__builtin_ia32_pshufd((v4i)hi, 0xb1));
@@ -385,24 +377,6 @@ RT64K_HOT_ABI bool low_contrast(u32 a, u32 b, u32 c, u32 d, int limit) {
   v4i limits = {l, l, l, l};
   v16c over = __builtin_ia32_psubusb128(__builtin_ia32_psubusb128(hi, lo), (v16c)limits);
   return (((v4i)over)[0] & 0xffffff) == 0;
-}
-
-// The four records (not all equal) have one count and differ only in
-// nodes that are mirror nodes (kMirrorNode) in all four.
-RT64K_HOT_ABI bool mirror_only(const PathRecord& a, const PathRecord& b, const PathRecord& c,
-                               const PathRecord& d) {
-  if (a.count != b.count || a.count != c.count || a.count != d.count) return false;
-  typedef const v4i_unaligned* V;
-  v4i n = {a.count, a.count, a.count, a.count}, first = {0, 1, 2, 3}, last = {3, 4, 5, 6};
-  v4i lo = *(V)a.node, hi = *(V)(a.node + 3);
-  v4i b0 = *(V)b.node, c0 = *(V)c.node, d0 = *(V)d.node;
-  v4i b1 = *(V)(b.node + 3), c1 = *(V)(c.node + 3), d1 = *(V)(d.node + 3);
-  // Per node: differs somewhere, and not a mirror node in all four (the
-  // flag is bit 31: an arithmetic shift makes it a lane mask).
-  v4i badLo = ((lo ^ b0) | (lo ^ c0) | (lo ^ d0)) & ~((lo & b0 & c0 & d0) >> 31) & (first < n);
-  v4i badHi = ((hi ^ b1) | (hi ^ c1) | (hi ^ d1)) & ~((hi & b1 & c1 & d1) >> 31) & (last < n);
-  v4i zero = {0, 0, 0, 0};
-  return __builtin_ia32_movmskps((v4f)((badLo | badHi) == zero)) == 15;
 }
 
 // Blocks this size or smaller are traced per pixel (unless low_contrast).
@@ -456,24 +430,11 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
         limit = kSmallContrast[0];
       else if (w <= 2 * f.minBlock && h <= 2 * f.minBlock)
         limit = kSmallContrast[1];
-      if (limit >= 0 && low_contrast(c00.packed, c10.packed, c01.packed, c11.packed, limit))
-        n.kind = kInterpolated;
-      // Records that differ only in mirror nodes (trace.h: kMirrorNode):
-      // interpolated where the corners' mirror parts span at most
-      // kMirrorContrast.
-      else if (((c00.path.mirror | c10.path.mirror | c01.path.mirror | c11.path.mirror) &
-                0xffffffu) &&
-               mirror_only(c00.path, c10.path, c01.path, c11.path) &&
-               low_contrast(c00.path.mirror, c10.path.mirror, c01.path.mirror, c11.path.mirror,
-                            kMirrorContrast[is_small(f, w, h)    ? 2
-                                            : w > 2 * f.minBlock ? 0
-                                                                 : 1]))
-        n.kind = kInterpolated;
+      if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
     }
     // Not split: the four records are equal, so c00's stands for all.
     else if (n.kind != kSplit &&
-             !low_contrast(c00.packed, c10.packed, c01.packed, c11.packed,
-                           kGlassContrast[is_small(f, w, h)]) &&
+             !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
              sees_glass(f, c00))
       n.kind = kSplit;
     c.large = w > kMaxInterpolated || h > kMaxInterpolated;

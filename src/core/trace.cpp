@@ -184,8 +184,6 @@ struct Pending {
 // trace_tree's id of a ray whose nearest hit is still to be found.
 constexpr int kFindHit = -2;
 
-static_assert(kMirrorWeight == kRecordWeight, "a mirror node is a recorded node (trace_tree)");
-
 } // namespace
 
 // The ray tree without recursion (docs/tracer-speed.md, round seven). A
@@ -218,18 +216,6 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   // (read in place: its children go to the slots of the next depth).
   const Ray* cur = &first;
   Vec3 sum = v3(0.0f);
-  // The mirror part (trace.h: PathRecord::mirror), kept only with a record.
-  // A mirror node's subtree is shaded as one run of nodes (depth first: its
-  // rays wait in the slots from 2 (depth + 1) up, every other ray below), so
-  // its colour is `sum` where the run ends less `sum` where it began
-  // (ctx.mirrorMark; the parts add up in ctx.mirrorSum). `mirrorSlot` is 2
-  // (depth + 1) of the open run's root, 0 when none is open: the run ends
-  // when no ray waits at or above it.
-  int mirrorSlot = 0;
-  if (PathRecord* r = ctx.record) {
-    r->mirror = 0xff000000u; // pack_color(0): none yet
-    ctx.mirrorSum = v3(0.0f);
-  }
   // What nearest() and transmittance() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   for (;;) {
@@ -241,15 +227,6 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     if (rec && recordable && rec->count < kMaxPathNodes) {
       node = &rec->node[rec->count++];
       *node = (u32)(id + 1);
-      // A mirror node (round nine; recordable and lighter than
-      // kMirrorWeightEnd: in the band, as kMirrorWeight is kRecordWeight).
-      if (weight < kMirrorWeightEnd) {
-        *node |= kMirrorNode;
-        if (!mirrorSlot) {
-          ctx.mirrorMark = sum;
-          mirrorSlot = 2 * depth + 2;
-        }
-      }
     }
     if (id < 0) {
       sum += s.background * weight;
@@ -365,14 +342,8 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
       }
       sum += color * weight;
     }
-    // The mirror node's run ends: no ray waits at or above mirrorSlot.
-    int slot = waiting ? 31 - __builtin_clz(waiting) : 0;
-    if (slot < mirrorSlot) {
-      ctx.mirrorSum += sum - ctx.mirrorMark;
-      ctx.record->mirror = pack_color(ctx.mirrorSum * (1.0f / rootWeight));
-      mirrorSlot = 0;
-    }
     if (!waiting) break;
+    int slot = 31 - __builtin_clz(waiting);
     waiting ^= 1u << slot;
     const Pending& next = pending[slot];
     cur = &next.ray;

@@ -27,23 +27,9 @@ constexpr int kRecordDepth = 3;
 constexpr float kRecordWeight = 0.25f;
 constexpr float kHighlightEdge = 1.0f / 32;
 constexpr int kMaxPathNodes = 7; // a full binary tree of depth 3
-// The mirror part (round nine): a ray of depth <= kRecordDepth whose weight
-// is in [kMirrorWeight, kMirrorWeightEnd) (scene 2's stage, reflect 0.25,
-// reflects the gold spheres and glass cylinders with that weight) is
-// recorded with kMirrorNode set in its node, and its subtree's share of
-// the colour (each node's shading times its weight, as in the sum trace()
-// returns) is kept, packed as pack_color() packs a colour, in
-// PathRecord::mirror. The adaptive renderer interpolates a block whose
-// records differ only in such nodes where the corners' mirror parts span
-// at most a contrast (adaptive.cpp): a reflected silhouette of low
-// contrast is interpolated, one of more contrast splits
-// (docs/speed-vs-error.md, round nine).
-constexpr float kMirrorWeight = 0.25f, kMirrorWeightEnd = 0.26f;
-constexpr u32 kMirrorNode = 1u << 31; // (bits 0..16: object and lights)
 struct PathRecord {
   u8 count;
   u32 node[kMaxPathNodes];
-  u32 mirror; // not compared by same_path(); 0xff000000 (black) when no ray is in the band
 };
 RT64K_HOT_ABI bool same_path(const PathRecord& a, const PathRecord& b);
 
@@ -51,10 +37,6 @@ struct TraceContext {
   const Scene* scene;
   RayStats stats;
   PathRecord* record; // may be null: nothing recorded
-  // trace()'s scratch for PathRecord::mirror (in memory, not in the ray
-  // loop's registers: kept there, they cost 1.3 % of scene 1's
-  // instructions, which has no mirror node).
-  Vec3 mirrorMark{}, mirrorSum{};
 };
 
 // Colour seen along `ray` (unit direction). depth is 1 for a primary ray;
@@ -113,7 +95,6 @@ inline Vec3 trace_miss(TraceContext& ctx, int depth, float weight) {
   PathRecord* rec = ctx.record;
   if (rec && depth <= kRecordDepth && weight >= kRecordWeight && rec->count < kMaxPathNodes)
     rec->node[rec->count++] = 0;
-  if (rec) rec->mirror = 0xff000000u; // (a primary miss: no mirror part)
   return ctx.scene->background;
 }
 

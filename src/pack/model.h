@@ -239,8 +239,8 @@ struct Predictor {
         t->stretch[j] = static_cast<short>(x);
       pi = v + 1;
     }
-    for (int j = pi; j < 4096; ++j)
-      t->stretch[j] = 2047;
+    // No tail to fill: squash(2047) = 4095 (e^(-2047/256) * 4096 < 1.5), so
+    // the loop above ends with pi = 4096 (Codec.StretchCoversEveryProbability).
     // APMs start as the identity: cell k holds squash((k - 16) * 128) * 16.
     for (u32 c = 0; c < sizeof t->apm / sizeof t->apm[0]; ++c)
       t->apm[c] = static_cast<u16>(squash((static_cast<int>(c % kApmCells) - 16) * 128) * 16);
@@ -255,8 +255,9 @@ struct Predictor {
     for (int i = 0; i < n; ++i) {
       u32 m = masks[2 * i] | masks[2 * i + 1] << 8;
       u32 h = (m + 1) * 0x9E3779B1u;
-      for (int j = 0; j < 8; ++j)
-        if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
+      u64 bytes = hist;
+      for (u32 j = 0, bits = m; j < 8; ++j, bits >>= 1, bytes >>= 8)
+        if (bits & 1) h = (h ^ static_cast<u32>(bytes & 255)) * 0x01000193u + j;
       if (m & kMaskX86Op) h = (h ^ (x86.role | (x86.left & 7) << 3 | x86.op << 7)) * 0x2F0B4A13u;
       if (m & kMaskX86Modrm) h = (h ^ (x86.role | x86.modrm << 3)) * 0x6F4F2A35u;
       if (m & kMaskX86Prev) h = (h ^ x86.prev) * 0x2F0B4A13u;
@@ -301,8 +302,9 @@ struct Predictor {
     const u16* r = apm = apm_row();
     int q = (r[apm_at] * (512 - apm_w) + r[apm_at + 1] * apm_w) >> 13;
     int pr = (pmix + q * 3) >> 2;
+    // pmix <= 4095 and q <= 65535 * 512 >> 13 = 4095, so pr <= 4095 as it
+    // is; pmix 1 with q 0 gives 0, hence the lower bound alone.
     if (pr < 1) pr = 1;
-    if (pr > 4095) pr = 4095;
     return pr;
   }
 

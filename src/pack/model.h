@@ -39,6 +39,7 @@ constexpr int kMaxModels = 14;
 constexpr int kSlotBits = 22;
 constexpr u32 kSlots = 1u << kSlotBits;
 constexpr int kMixInputs = kMaxModels + 1; // the models and a bias
+constexpr int kBias = 512;                 // the mixer's bias input (p())
 constexpr int kApmCells = 33;              // stretch(p) in 33 steps of 128 from -2048
 
 // Model mask bits: bits 0-7 put byte -1..-8 in the context; the others
@@ -288,8 +289,10 @@ struct Predictor {
       in[i] = t->stretch[counter_p12(cur[i])];
       sum += static_cast<i64>(w[i] + v[i]) * in[i];
     }
-    in[n] = 256;
-    sum += static_cast<i64>(w[n] + v[n]) * 256;
+    // The bias input: 512 (size13 on round nine's image: 256 -12 bytes,
+    // 384 and 416 -2 and 0 against 512, 1024 +100; no decoder byte).
+    in[n] = kBias;
+    sum += static_cast<i64>(w[n] + v[n]) * kBias;
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;

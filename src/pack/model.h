@@ -187,10 +187,8 @@ struct Predictor {
   int n;           // models in use
   u32 flags;       // kFlag*
   const u8* masks; // n little-endian 16-bit masks (the header's)
-  u32 data_end;    // bytes before it are the data region
   u64 hist;        // the last 8 bytes, byte -1 lowest
   u32 c0;          // 1, then the bits of the current byte behind a leading 1
-  u32 pos;         // bytes done
   int* wa;         // the mixer's weight sets in use
   int* wb;
   u16* apm;   // the SSE row in use
@@ -210,12 +208,12 @@ struct Predictor {
     n = header[0];
     if (n < 1 || n > kMaxModels) n = 1;
     flags = header[1];
-    data_end = (header[2] | header[3] << 8) * 4u;
+    // The data region: bytes before 4 * the header's 16-bit count.
+    const u32 data_end = (header[2] | header[3] << 8) * 4u;
     masks = header + 4;
     hist = 0;
     x86 = X86{};
     c0 = 1;
-    pos = 0;
     // The data region (the constants before the code) is one long operand
     // to the parse: no instructions, and left & 3 is the column in 4-byte
     // tables (a kData role with no parse cost 16 bytes more and 32 decoder
@@ -328,7 +326,6 @@ struct Predictor {
       hist = hist << 8 | (c0 & 255);
       x86.step(c0 & 255);
       c0 = 1;
-      ++pos;
       rehash();
     }
   }

@@ -191,10 +191,8 @@ struct Predictor {
   u32 c0;          // 1, then the bits of the current byte behind a leading 1
   int* wa;         // the mixer's weight sets in use
   int* wb;
-  u16* apm;   // the SSE row in use
-  int pmix;   // mixer output (12 bits)
-  int apm_at; // the lower of the two APM cells in use
-  int apm_w;  // the upper one's interpolation weight (0..511)
+  u16* apm; // the SSE cell update() moves: the nearer of the two p() used
+  int pmix; // mixer output (12 bits)
   X86 x86;
   u32 hash[kMaxModels];
   int in[kMixInputs];
@@ -297,11 +295,11 @@ struct Predictor {
     pmix = t->squash[d + 2047];
     // SSE: interpolate between the two cells around stretch(pmix), then
     // average with the mixer (1:3; 1:1 and the mixer alone cost more).
-    int s = (d + 2048) * 4; // 0..16380: 32 cells of 512
-    apm_at = s >> 9;
-    apm_w = s & 511;
-    const u16* r = apm = apm_row();
-    int q = (r[apm_at] * (512 - apm_w) + r[apm_at + 1] * apm_w) >> 13;
+    int s = (d + 2048) * 4;              // 0..16380: 32 cells of 512
+    const int at = s >> 9, w1 = s & 511; // the lower cell, the upper's weight
+    u16* r = apm_row() + at;
+    apm = r + (w1 >> 8);
+    int q = (r[0] * (512 - w1) + r[1] * w1) >> 13;
     int pr = (pmix + q * 3) >> 2;
     // pmix <= 4095 and q <= 65535 * 512 >> 13 = 4095, so pr <= 4095 as it
     // is; pmix 1 with q 0 gives 0, hence the lower bound alone.
@@ -319,8 +317,7 @@ struct Predictor {
       wb[i] += (in[i] * err) >> 11;
     }
     // SSE: move the nearer cell toward the bit (rate 1/32; 1/16 and 1/64 cost more).
-    u16* r = apm + apm_at + (apm_w >> 8);
-    *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 5));
+    *apm = static_cast<u16>(*apm + ((((y << 16) - y) - *apm) >> 5));
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
       hist = hist << 8 | (c0 & 255);

@@ -154,7 +154,8 @@ __asm__(".section .text$stub_start,\"x\"\n"
         "  popq %rdi\n"
         "  popq %rbp\n"
         "  popq %rbx\n"
-        "  movl $1, %eax\n"
+        "  pushq $1\n" // eax = 1 in 3 bytes (movl: 5)
+        "  popq %rax\n"
         "  ret\n"
         ".text\n");
 

@@ -133,7 +133,6 @@ struct X86 {
   }
 
   void step(u32 b) {
-    static const u8 imm_bytes[7] = {0, 1, 4, 2, 3, 8, 4};
     u32 r = role;
     rel = 0;
     if (r == kOperand) {
@@ -150,8 +149,12 @@ struct X86 {
         }
       }
       u32 mod = modrm >> 6, base = b & 7; // rm or the SIB's base: 5 with mod 0 is disp32
-      if (r == kModrm && mod == 0 && base == 5) rel = kFlagRip;
-      operands((mod == 1 ? 1 : mod == 2 || (mod == 0 && base == 5) ? 4 : 0) + imm);
+      u32 disp = 0x410 >> mod * 4 & 15;   // mod 0, 1, 2, 3: 0, 1, 4, 0 bytes
+      if (mod == 0 && base == 5) {
+        disp = 4;
+        if (r == kModrm) rel = kFlagRip;
+      }
+      operands(disp + imm);
       return;
     }
     u32 c; // the opcode's class as in kOneByte
@@ -163,14 +166,15 @@ struct X86 {
       c = kOneByte[b >> 1] >> (b & 1) * 4 & 15;
       if (c == 7) return; // a prefix
     } else {              // kOp0F
-      static const u8 two_byte_class[4] = {8, 0, 2, 9};
-      c = two_byte_class[kTwoByte[b >> 2] >> (b & 3) * 2 & 3];
+      // The 2-bit field's class: 0 ModRM (8), 1 nothing (0), 2 rel32 (2),
+      // 3 ModRM + imm8 (9).
+      c = 0x9208u >> (kTwoByte[b >> 2] >> (b & 3) * 2 & 3) * 4 & 15;
       b |= 0x100;
     }
     rel = (b | 1) == 0xE9 || (b & 0x1F0) == 0x180 ? kFlagBranch : 0; // CALL, JMP, Jcc rel32
     prev = op;
     op = b;
-    imm = imm_bytes[c & 7];
+    imm = 0x4832410u >> (c & 7) * 4 & 15; // classes 0-6: 0, 1, 4, 2, 3, 8, 4 bytes
     if (c & 8)
       role = kModrm;
     else

@@ -59,11 +59,10 @@ unsigned encode_with(const Params& prm, const unsigned char* in, unsigned size, 
     }
   }
   // x1's four bytes end the stream: the decoder's window then lies in
-  // [x1, x2], and it has read at most the n bytes written (since size13 it
-  // shifts before each bit, not after, so it skips the last shifts' bytes;
-  // one byte that
-  // relied on zeros after the stream would save 3 bytes but bind the
-  // caller to them).
+  // [x1, x2], and it has read at most the n bytes written (it shifts before
+  // each bit, not after, so it skips the reads of the last shifts). One
+  // byte that relied on zeros after the stream would save 3 bytes but bind
+  // the caller to them.
   for (int i = 0; i < 4; ++i, x1 <<= 8)
     put(x1 >> 24);
   if (overflow) return 0;

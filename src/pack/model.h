@@ -39,6 +39,7 @@ constexpr int kMaxModels = 14;
 constexpr int kSlotBits = 22;
 constexpr u32 kSlots = 1u << kSlotBits;
 constexpr int kMixInputs = kMaxModels + 1; // the models and a bias
+constexpr int kBias = 512;                 // the mixer's bias input (p())
 constexpr int kApmCells = 33;              // stretch(p) in 33 steps of 128 from -2048
 
 // Model mask bits: bits 0-7 put byte -1..-8 in the context; the others
@@ -132,7 +133,6 @@ struct X86 {
   }
 
   void step(u32 b) {
-    static const u8 imm_bytes[7] = {0, 1, 4, 2, 3, 8, 4};
     u32 r = role;
     rel = 0;
     if (r == kOperand) {
@@ -149,8 +149,12 @@ struct X86 {
         }
       }
       u32 mod = modrm >> 6, base = b & 7; // rm or the SIB's base: 5 with mod 0 is disp32
-      if (r == kModrm && mod == 0 && base == 5) rel = kFlagRip;
-      operands((mod == 1 ? 1 : mod == 2 || (mod == 0 && base == 5) ? 4 : 0) + imm);
+      u32 disp = 0x410 >> mod * 4 & 15;   // mod 0, 1, 2, 3: 0, 1, 4, 0 bytes
+      if (mod == 0 && base == 5) {
+        disp = 4;
+        if (r == kModrm) rel = kFlagRip;
+      }
+      operands(disp + imm);
       return;
     }
     u32 c; // the opcode's class as in kOneByte
@@ -162,14 +166,15 @@ struct X86 {
       c = kOneByte[b >> 1] >> (b & 1) * 4 & 15;
       if (c == 7) return; // a prefix
     } else {              // kOp0F
-      static const u8 two_byte_class[4] = {8, 0, 2, 9};
-      c = two_byte_class[kTwoByte[b >> 2] >> (b & 3) * 2 & 3];
+      // The 2-bit field's class: 0 ModRM (8), 1 nothing (0), 2 rel32 (2),
+      // 3 ModRM + imm8 (9).
+      c = 0x9208u >> (kTwoByte[b >> 2] >> (b & 3) * 2 & 3) * 4 & 15;
       b |= 0x100;
     }
     rel = (b | 1) == 0xE9 || (b & 0x1F0) == 0x180 ? kFlagBranch : 0; // CALL, JMP, Jcc rel32
     prev = op;
     op = b;
-    imm = imm_bytes[c & 7];
+    imm = 0x4832410u >> (c & 7) * 4 & 15; // classes 0-6: 0, 1, 4, 2, 3, 8, 4 bytes
     if (c & 8)
       role = kModrm;
     else
@@ -186,16 +191,12 @@ struct Predictor {
   int n;           // models in use
   u32 flags;       // kFlag*
   const u8* masks; // n little-endian 16-bit masks (the header's)
-  u32 data_end;    // bytes before it are the data region
   u64 hist;        // the last 8 bytes, byte -1 lowest
   u32 c0;          // 1, then the bits of the current byte behind a leading 1
-  u32 pos;         // bytes done
   int* wa;         // the mixer's weight sets in use
   int* wb;
-  u16* apm;   // the SSE row in use
-  int pmix;   // mixer output (12 bits)
-  int apm_at; // the lower of the two APM cells in use
-  int apm_w;  // the upper one's interpolation weight (0..511)
+  u16* apm; // the SSE cell update() moves: the nearer of the two p() used
+  int pmix; // mixer output (12 bits)
   X86 x86;
   u32 hash[kMaxModels];
   int in[kMixInputs];
@@ -209,12 +210,12 @@ struct Predictor {
     n = header[0];
     if (n < 1 || n > kMaxModels) n = 1;
     flags = header[1];
-    data_end = (header[2] | header[3] << 8) * 4u;
+    // The data region: bytes before 4 * the header's 16-bit count.
+    const u32 data_end = (header[2] | header[3] << 8) * 4u;
     masks = header + 4;
     hist = 0;
     x86 = X86{};
     c0 = 1;
-    pos = 0;
     // The data region (the constants before the code) is one long operand
     // to the parse: no instructions, and left & 3 is the column in 4-byte
     // tables (a kData role with no parse cost 16 bytes more and 32 decoder
@@ -239,8 +240,8 @@ struct Predictor {
         t->stretch[j] = static_cast<short>(x);
       pi = v + 1;
     }
-    for (int j = pi; j < 4096; ++j)
-      t->stretch[j] = 2047;
+    // No tail to fill: squash(2047) = 4095 (e^(-2047/256) * 4096 < 1.5), so
+    // the loop above ends with pi = 4096 (Codec.StretchCoversEveryProbability).
     // APMs start as the identity: cell k holds squash((k - 16) * 128) * 16.
     for (u32 c = 0; c < sizeof t->apm / sizeof t->apm[0]; ++c)
       t->apm[c] = static_cast<u16>(squash((static_cast<int>(c % kApmCells) - 16) * 128) * 16);
@@ -255,8 +256,9 @@ struct Predictor {
     for (int i = 0; i < n; ++i) {
       u32 m = masks[2 * i] | masks[2 * i + 1] << 8;
       u32 h = (m + 1) * 0x9E3779B1u;
-      for (int j = 0; j < 8; ++j)
-        if (m >> j & 1) h = (h ^ static_cast<u32>(hist >> (8 * j) & 255)) * 0x01000193u + j;
+      u64 bytes = hist;
+      for (u32 j = 0, bits = m; j < 8; ++j, bits >>= 1, bytes >>= 8)
+        if (bits & 1) h = (h ^ static_cast<u32>(bytes & 255)) * 0x01000193u + j;
       if (m & kMaskX86Op) h = (h ^ (x86.role | (x86.left & 7) << 3 | x86.op << 7)) * 0x2F0B4A13u;
       if (m & kMaskX86Modrm) h = (h ^ (x86.role | x86.modrm << 3)) * 0x6F4F2A35u;
       if (m & kMaskX86Prev) h = (h ^ x86.prev) * 0x2F0B4A13u;
@@ -287,22 +289,25 @@ struct Predictor {
       in[i] = t->stretch[counter_p12(cur[i])];
       sum += static_cast<i64>(w[i] + v[i]) * in[i];
     }
-    in[n] = 256;
-    sum += static_cast<i64>(w[n] + v[n]) * 256;
+    // The bias input: 512 (size13 on round nine's image: 256 -12 bytes,
+    // 384 and 416 -2 and 0 against 512, 1024 +100; no decoder byte).
+    in[n] = kBias;
+    sum += static_cast<i64>(w[n] + v[n]) * kBias;
     int d = static_cast<int>(sum >> 16);
     if (d > 2047) d = 2047;
     if (d < -2047) d = -2047;
     pmix = t->squash[d + 2047];
     // SSE: interpolate between the two cells around stretch(pmix), then
     // average with the mixer (1:3; 1:1 and the mixer alone cost more).
-    int s = (d + 2048) * 4; // 0..16380: 32 cells of 512
-    apm_at = s >> 9;
-    apm_w = s & 511;
-    const u16* r = apm = apm_row();
-    int q = (r[apm_at] * (512 - apm_w) + r[apm_at + 1] * apm_w) >> 13;
+    int s = (d + 2048) * 4;              // 0..16380: 32 cells of 512
+    const int at = s >> 9, w1 = s & 511; // the lower cell, the upper's weight
+    u16* r = apm_row() + at;
+    apm = r + (w1 >> 8);
+    int q = (r[0] * (512 - w1) + r[1] * w1) >> 13;
     int pr = (pmix + q * 3) >> 2;
+    // pmix <= 4095 and q <= 65535 * 512 >> 13 = 4095, so pr <= 4095 as it
+    // is; pmix 1 with q 0 gives 0, hence the lower bound alone.
     if (pr < 1) pr = 1;
-    if (pr > 4095) pr = 4095;
     return pr;
   }
 
@@ -316,14 +321,12 @@ struct Predictor {
       wb[i] += (in[i] * err) >> 11;
     }
     // SSE: move the nearer cell toward the bit (rate 1/32; 1/16 and 1/64 cost more).
-    u16* r = apm + apm_at + (apm_w >> 8);
-    *r = static_cast<u16>(*r + ((((y << 16) - y) - *r) >> 5));
+    *apm = static_cast<u16>(*apm + ((((y << 16) - y) - *apm) >> 5));
     c0 = c0 << 1 | static_cast<u32>(y);
     if (c0 >= 256) {
       hist = hist << 8 | (c0 & 255);
       x86.step(c0 & 255);
       c0 = 1;
-      ++pos;
       rehash();
     }
   }

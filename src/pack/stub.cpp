@@ -79,14 +79,15 @@ __asm__(".section .text$stub_start,\"x\"\n"
         "  pushq %r14\n"
         "  subq $32, %rsp\n"
         "  leaq __ImageBase(%rip), %rbp\n"
-        "  leaq rt64k_payload+16(%rip), %rcx\n"
+        "  leaq rt64k_payload(%rip), %rsi\n" // the record (rsi kept by decode)
+        "  leaq 16(%rsi), %rcx\n"
         "  leaq 0x1000(%rbp), %rdx\n"
-        "  movl rt64k_payload(%rip), %r8d\n"
+        "  movl (%rsi), %r8d\n"
         "  leaq rt64k_work(%rip), %r9\n"
         "  call _ZN5rt64k4pack6decodeEPKhPhjPv\n"
-        "  movl rt64k_payload+8(%rip), %ebx\n"
+        "  movl 8(%rsi), %ebx\n"
         "  addq %rbp, %rbx\n" // rbx: the list
-        "  movl rt64k_payload+12(%rip), %edi\n"
+        "  movl 12(%rsi), %edi\n"
         "  addq %rbp, %rdi\n" // rdi: the next IAT slot
         "1:\n"                // a DLL
         "  cmpb $0, (%rbx)\n"
@@ -154,7 +155,8 @@ __asm__(".section .text$stub_start,\"x\"\n"
         "  popq %rdi\n"
         "  popq %rbp\n"
         "  popq %rbx\n"
-        "  movl $1, %eax\n"
+        "  pushq $1\n" // eax = 1 in 3 bytes (movl: 5)
+        "  popq %rax\n"
         "  ret\n"
         ".text\n");
 

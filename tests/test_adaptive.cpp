@@ -502,6 +502,21 @@ TEST(AdaptiveFrame, SamePictureForOneTwoAndSevenThreads) {
   }
 }
 
+// The largest per-channel span of the colours at the four corners of the
+// b-px block whose top-left corner is (x, y).
+int corner_span(const Image& img, int x, int y, int b) {
+  int span = 0;
+  for (int sh = 0; sh < 24; sh += 8) {
+    int lo = 255, hi = 0;
+    for (uint32_t c : {img.at(x, y), img.at(x + b, y), img.at(x, y + b), img.at(x + b, y + b)}) {
+      lo = std::min(lo, int(c >> sh & 255));
+      hi = std::max(hi, int(c >> sh & 255));
+    }
+    span = std::max(span, hi - lo);
+  }
+  return span;
+}
+
 // A glass sphere filling the view over a flat background, lit from the
 // camera: every corner's record is the same (glass, its far side, the
 // background; lit by a light just in front of it), and its diffuse term
@@ -539,16 +554,8 @@ TEST(AdaptiveFrame, GlassIsInterpolatedOnlyWhereItsCornersAreClose) {
     int centres = 0, wide = 0, traced = 0;
     for (int y = 0; y + kB < kH; y += kB)
       for (int x = 0; x + kB < kW; x += kB) {
-        int span = 0; // the corners are traced: the picture holds their colours
-        for (int sh = 0; sh < 24; sh += 8) {
-          int lo = 255, hi = 0;
-          for (uint32_t c :
-               {img.at(x, y), img.at(x + kB, y), img.at(x, y + kB), img.at(x + kB, y + kB)}) {
-            lo = std::min(lo, int(c >> sh & 255));
-            hi = std::max(hi, int(c >> sh & 255));
-          }
-          span = std::max(span, hi - lo);
-        }
+        // The corners are traced: the picture holds their colours.
+        int span = corner_span(img, x, y, kB);
         int centre = kinds[size_t((y + kB / 2) * kW + x + kB / 2)] >> kSampleCountShift;
         centres += centre;
         wide += span > kGlassContrast;
@@ -579,16 +586,7 @@ TEST(AdaptiveFrame, GlassIsInterpolatedOnlyWhereItsCornersAreClose) {
   int wide = 0, blocks = 0;
   for (int y = 0; y + 2 < kCh; y += 2)
     for (int x = 0; x + 2 < kCw; x += 2) {
-      int span = 0;
-      for (int sh = 0; sh < 24; sh += 8) {
-        int lo = 255, hi = 0;
-        for (uint32_t c :
-             {img.at(x, y), img.at(x + 2, y), img.at(x, y + 2), img.at(x + 2, y + 2)}) {
-          lo = std::min(lo, int(c >> sh & 255));
-          hi = std::max(hi, int(c >> sh & 255));
-        }
-        span = std::max(span, hi - lo);
-      }
+      int span = corner_span(img, x, y, 2);
       bool traced = (kinds[size_t((y + 1) * kCw + x + 1)] & kKindMask) == kTraced;
       EXPECT_EQ(traced, span > kSmallGlassContrast) << "block at " << x << "," << y;
       wide += span > kSmallGlassContrast;
@@ -929,16 +927,7 @@ TEST(AdaptiveFrame, SmoothColourThroughGlassIsInterpolated) {
     // limit, 24/255.
     for (int y = 0; y + 2 < kN; y += 2)
       for (int x = 0; x + 2 < kN; x += 2) {
-        int span = 0;
-        for (int sh = 0; sh < 24; sh += 8) {
-          int lo = 255, hi = 0;
-          for (uint32_t c :
-               {full.at(x, y), full.at(x + 2, y), full.at(x, y + 2), full.at(x + 2, y + 2)}) {
-            lo = std::min(lo, int(c >> sh & 255));
-            hi = std::max(hi, int(c >> sh & 255));
-          }
-          span = std::max(span, hi - lo);
-        }
+        int span = corner_span(full, x, y, 2);
         steep += span > 24;
       }
     EXPECT_GT(steep, 0); // the fade is steep enough to have been traced

@@ -71,6 +71,14 @@ if(RT64K_HAVE_MINGW)
     BUILD_ALWAYS TRUE
     INSTALL_COMMAND ""
     BUILD_BYPRODUCTS ${RT64K_INTRO_EXE} ${RT64K_UPX_EXE} ${RT64K_OURS_EXE})
+  # The configure step (and so the -U above) runs again whenever a file that
+  # sets the sub-build's default flags changes. Without it the sub-build's
+  # own re-run of CMake keeps an older checkout's cached flags, and the exe
+  # it builds has other bytes than a clean clone's.
+  ExternalProject_Add_Step(intro_exe flag_defaults
+    COMMAND ${CMAKE_COMMAND} -E echo "intro.exe: flag defaults changed, configuring again"
+    DEPENDS ${CMAKE_SOURCE_DIR}/src/win32/CMakeLists.txt ${CMAKE_SOURCE_DIR}/cmake/flags.cmake
+    DEPENDERS configure)
   # The shipped packed exe: the smaller of intro-upx.exe and intro-packed.exe.
   ExternalProject_Add_Step(intro_exe pick_packed
     COMMAND ${CMAKE_COMMAND} -DUPX_EXE=${RT64K_UPX_EXE} -DUPX=${RT64K_UPX} -DOURS_EXE=${RT64K_OURS_EXE}

@@ -630,6 +630,69 @@ inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 
 } // namespace
 
+namespace {
+
+typedef long long v2ll __attribute__((vector_size(16)));
+typedef u64 u64_unaligned __attribute__((aligned(4), may_alias));
+
+// P / 2^shift rounded to nearest, ties to even (as cvtps2dq), per lane:
+// (P + 2^(shift-1) - 1 + the lowest bit of P >> shift) >> shift, for P >= 0.
+inline v8s round_even(v8s p, v8s halfLess1, v8s one, int shift) {
+  v8s odd = __builtin_ia32_psrawi128(p, shift) & one;
+  return __builtin_ia32_psrawi128(p + halfLess1 + odd, shift);
+}
+
+// An S x S block (S = 2^s, 2 <= S <= 8) that owns neither its right column
+// nor its bottom row (every base and split block but those at the image's
+// right and bottom edges): the bilinear value times S^2 is an integer,
+// P(x, y) = T(x) S + (B(x) - T(x)) y with T(x) = a (S - x) + b x along the
+// top and B(x) likewise along the bottom, at most 255 * 64 = 16,320: a
+// signed 16-bit lane. Two pixels a register (lanes 0-3 pixel x, 4-7 pixel
+// x + 1), a row is the row above plus B - T, and each pixel is P / S^2
+// rounded to nearest, ties to even: the same pixels as the float path
+// below, whose every step is exact for these spans (multiples of 1/64
+// below 512), rounded by cvtps2dq.
+void interpolate_exact(u32* row, int stride, int s, u32 c00, u32 c10, u32 c01, u32 c11) {
+  v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+  corners |= (v4i){-16777216, -16777216, -16777216, -16777216}; // alpha 255
+  v16c zero = {};
+  v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
+  v8s cd = (v8s)__builtin_ia32_punpckhbw128((v16c)corners, zero); // c | d
+  // [e | e] with e = b - a (f = d - c): the change a pixel along the top.
+  v8s e = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)ab, 0x4e) - ab), 0x44);
+  v8s f = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)cd, 0x4e) - cd), 0x44);
+  v8s t = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)ab, 0x44), s) +
+          (v8s)__builtin_ia32_pslldqi128((v2ll)e, 64); // T(0) | T(1)
+  v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), s) +
+               (v8s)__builtin_ia32_pslldqi128((v2ll)f, 64);
+  v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
+  v8s p0 = __builtin_ia32_psllwi128(t, s), dp = __builtin_ia32_psllwi128(e + e, s);
+  v8s p1 = p0 + dp, d1 = d0 + dd;
+  v8s p2 = p1 + dp, d2 = d1 + dd;
+  v8s p3 = p2 + dp, d3 = d2 + dd;
+  int shift = 2 * s, size = 1 << s;
+  short h = (short)((1 << (shift - 1)) - 1);
+  v8s halfLess1 = {h, h, h, h, h, h, h, h}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  for (int r = 0; r < size; ++r, row += stride) {
+    v16c out0 = __builtin_ia32_packuswb128(round_even(p0, halfLess1, one, shift),
+                                           round_even(p1, halfLess1, one, shift));
+    p0 += d0;
+    p1 += d1;
+    if (size == 2) {
+      *(u64_unaligned*)row = (u64)((v2ll)out0)[0];
+      continue;
+    }
+    *(v4i_unaligned*)row = (v4i)out0;
+    if (size == 4) continue;
+    *(v4i_unaligned*)(row + 4) = (v4i)__builtin_ia32_packuswb128(
+        round_even(p2, halfLess1, one, shift), round_even(p3, halfLess1, one, shift));
+    p2 += d2;
+    p3 += d3;
+  }
+}
+
+} // namespace
+
 // Per row, each channel's value at the block's left and right side; along
 // the row a constant step: one pixel's four channels per SSE2 register,
 // four pixels per step. Exact at the corners: row y0 starts at c00 (step
@@ -637,6 +700,10 @@ inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
                           u32 c00, u32 c10, u32 c01, u32 c11) {
   int spanX = x1 - x0, spanY = y1 - y0;
+  if (spanX == spanY && xEnd == x1 && yEnd == y1 && (spanX == 2 || spanX == 4 || spanX == 8)) {
+    interpolate_exact(fb + y0 * stride + x0, stride, __builtin_ctz(spanX), c00, c10, c01, c11);
+    return;
+  }
   v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
   float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
   v4f downLeft = (c - a) * invY, downRight = (d - b) * invY; // per row

@@ -178,9 +178,11 @@ RT64K_HOT_ABI void flush(Context& c) {
     Vec3 color[4];
     PathRecord paths[4];
     trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
+    u32 packed4[4];
+    if (count == 4) pack_color4(color, packed4);
     for (int k = 0; k < count; ++k) {
       int j = i + k;
-      u32 packed = pack_color(color[k]);
+      u32 packed = count == 4 ? packed4[k] : pack_color(color[k]);
       b.out[j]->packed = packed;
       b.out[j]->path = paths[k];
       b.out[j]->state = kKnown; // (a spare's is not read)
@@ -347,10 +349,17 @@ RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 pa
   adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
+RT64K_HOT_ABI bool interpolate_square(u32* row, int stride, int span, v4i corners);
+
 RT64K_COLD RT64K_HOT_ABI void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10,
                                           u32 c01, u32 c11) {
   mark(f, b, kInterpolated);
-  adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
+  v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+  int span = b.x1 - b.x0;
+  if (!(span == b.y1 - b.y0 && b.xEnd == b.x1 && b.yEnd == b.y1 &&
+        interpolate_square(f.fb + b.y0 * f.stride + b.x0, f.stride, span, corners)))
+    adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01,
+                         c11);
   if (!f.showBlocks) return;
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x)
@@ -599,12 +608,18 @@ BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, cons
 
 void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
-  for (int y = y0; y < yEnd; ++y) {
-    u32* row = fb + y * stride;
-    int x = x0;
-    for (; x + 4 <= xEnd; x += 4)
+  int w = xEnd - x0;
+  u32* row = fb + y0 * stride + x0;
+  for (int y = y0; y < yEnd; ++y, row += stride) {
+    if (w == 8) { // (the common case: an 8-px block's row)
+      *(v4i_unaligned*)row = four;
+      *(v4i_unaligned*)(row + 4) = four;
+      continue;
+    }
+    int x = 0;
+    for (; x + 4 <= w; x += 4)
       *(v4i_unaligned*)(row + x) = four;
-    for (; x < xEnd; ++x)
+    for (; x < w; ++x)
       row[x] = packed;
   }
 }
@@ -628,18 +643,18 @@ inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
 
 inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 
-} // namespace
-
-namespace {
-
 typedef long long v2ll __attribute__((vector_size(16)));
 typedef u64 u64_unaligned __attribute__((aligned(4), may_alias));
 
-// P / 2^shift rounded to nearest, ties to even (as cvtps2dq), per lane:
-// (P + 2^(shift-1) - 1 + the lowest bit of P >> shift) >> shift, for P >= 0.
-inline v8s round_even(v8s p, v8s halfLess1, v8s one, int shift) {
-  v8s odd = __builtin_ia32_psrawi128(p, shift) & one;
-  return __builtin_ia32_psrawi128(p + halfLess1 + odd, shift);
+// Rounds the row values Q = P + 2^(shift-1) - 1 of the exact path below to
+// P / 2^shift, nearest, ties to even (as cvtps2dq), per lane: (Q + the
+// lowest bit of Q >> shift) >> shift. With P = q 2^shift + r, Q >> shift is
+// q unless r > 2^(shift-1), where Q already carries to q + 1 and the added
+// bit cannot carry further; at a tie (r = 2^(shift-1), Q's low bits all
+// ones) it is q, and q odd carries to q + 1.
+template <int kShift> inline v8s round_even(v8s q) {
+  v8s one = {1, 1, 1, 1, 1, 1, 1, 1};
+  return __builtin_ia32_psrawi128(q + (__builtin_ia32_psrawi128(q, kShift) & one), kShift);
 }
 
 // An S x S block (S = 2^s, 2 <= S <= 8) that owns neither its right column
@@ -652,8 +667,9 @@ inline v8s round_even(v8s p, v8s halfLess1, v8s one, int shift) {
 // rounded to nearest, ties to even: the same pixels as the float path
 // below, whose every step is exact for these spans (multiples of 1/64
 // below 512), rounded by cvtps2dq.
-void interpolate_exact(u32* row, int stride, int s, u32 c00, u32 c10, u32 c01, u32 c11) {
-  v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+template <int kLog> RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, v4i corners) {
+  constexpr int kSize = 1 << kLog, kShift = 2 * kLog;
+  constexpr short kHalfLess1 = (1 << (kShift - 1)) - 1;
   corners |= (v4i){-16777216, -16777216, -16777216, -16777216}; // alpha 255
   v16c zero = {};
   v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
@@ -661,49 +677,41 @@ void interpolate_exact(u32* row, int stride, int s, u32 c00, u32 c10, u32 c01, u
   // [e | e] with e = b - a (f = d - c): the change a pixel along the top.
   v8s e = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)ab, 0x4e) - ab), 0x44);
   v8s f = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)cd, 0x4e) - cd), 0x44);
-  v8s t = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)ab, 0x44), s) +
+  v8s t = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)ab, 0x44), kLog) +
           (v8s)__builtin_ia32_pslldqi128((v2ll)e, 64); // T(0) | T(1)
-  v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), s) +
+  v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), kLog) +
                (v8s)__builtin_ia32_pslldqi128((v2ll)f, 64);
   v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
-  v8s p0 = __builtin_ia32_psllwi128(t, s), dp = __builtin_ia32_psllwi128(e + e, s);
-  v8s p1 = p0 + dp, d1 = d0 + dd;
-  v8s p2 = p1 + dp, d2 = d1 + dd;
-  v8s p3 = p2 + dp, d3 = d2 + dd;
-  int shift = 2 * s, size = 1 << s;
-  short h = (short)((1 << (shift - 1)) - 1);
-  v8s halfLess1 = {h, h, h, h, h, h, h, h}, one = {1, 1, 1, 1, 1, 1, 1, 1};
-  for (int r = 0; r < size; ++r, row += stride) {
-    v16c out0 = __builtin_ia32_packuswb128(round_even(p0, halfLess1, one, shift),
-                                           round_even(p1, halfLess1, one, shift));
-    p0 += d0;
-    p1 += d1;
-    if (size == 2) {
+  v8s bias = {kHalfLess1, kHalfLess1, kHalfLess1, kHalfLess1,
+              kHalfLess1, kHalfLess1, kHalfLess1, kHalfLess1};
+  v8s q0 = __builtin_ia32_psllwi128(t, kLog) + bias, dq = __builtin_ia32_psllwi128(e + e, kLog);
+  v8s q1 = q0 + dq, d1 = d0 + dd;
+  v8s q2 = q1 + dq, d2 = d1 + dd;
+  v8s q3 = q2 + dq, d3 = d2 + dd;
+  for (int r = 0; r < kSize; ++r, row += stride) {
+    v16c out0 = __builtin_ia32_packuswb128(round_even<kShift>(q0), round_even<kShift>(q1));
+    q0 += d0;
+    q1 += d1;
+    if (kSize == 2) {
       *(u64_unaligned*)row = (u64)((v2ll)out0)[0];
       continue;
     }
     *(v4i_unaligned*)row = (v4i)out0;
-    if (size == 4) continue;
-    *(v4i_unaligned*)(row + 4) = (v4i)__builtin_ia32_packuswb128(
-        round_even(p2, halfLess1, one, shift), round_even(p3, halfLess1, one, shift));
-    p2 += d2;
-    p3 += d3;
+    if (kSize == 4) continue;
+    *(v4i_unaligned*)(row + 4) =
+        (v4i)__builtin_ia32_packuswb128(round_even<kShift>(q2), round_even<kShift>(q3));
+    q2 += d2;
+    q3 += d3;
   }
 }
-
-} // namespace
 
 // Per row, each channel's value at the block's left and right side; along
 // the row a constant step: one pixel's four channels per SSE2 register,
 // four pixels per step. Exact at the corners: row y0 starts at c00 (step
 // 0 from it), row y1 is c01 and c11 themselves, column x1 is the right side.
-void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
-                          u32 c00, u32 c10, u32 c01, u32 c11) {
+RT64K_COLD RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
+                                  int yEnd, u32 c00, u32 c10, u32 c01, u32 c11) {
   int spanX = x1 - x0, spanY = y1 - y0;
-  if (spanX == spanY && xEnd == x1 && yEnd == y1 && (spanX == 2 || spanX == 4 || spanX == 8)) {
-    interpolate_exact(fb + y0 * stride + x0, stride, __builtin_ctz(spanX), c00, c10, c01, c11);
-    return;
-  }
   v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
   float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
   v4f downLeft = (c - a) * invY, downRight = (d - b) * invY; // per row
@@ -734,6 +742,29 @@ void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, i
     // Only a block at the image's right edge owns its right corner column.
     if (xEnd > x1) row[x1] = pack_pixel(right);
   }
+}
+
+// A square block of 2, 4 or 8 px owning neither its right column nor its
+// bottom row, from its top-left pixel `row`: interpolated exactly (true);
+// else nothing written (false).
+bool interpolate_square(u32* row, int stride, int span, v4i corners) {
+  if (span == 8) interpolate_exact<3>(row, stride, corners);
+  else if (span == 4) interpolate_exact<2>(row, stride, corners);
+  else if (span == 2) interpolate_exact<1>(row, stride, corners);
+  else return false;
+  return true;
+}
+
+} // namespace
+
+// The exact path where it applies (most blocks), else the float path.
+void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
+                          u32 c00, u32 c10, u32 c01, u32 c11) {
+  v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+  if (x1 - x0 == y1 - y0 && xEnd == x1 && yEnd == y1 &&
+      interpolate_square(fb + y0 * stride + x0, stride, x1 - x0, corners))
+    return;
+  interpolate_float(fb, stride, x0, y0, x1, y1, xEnd, yEnd, c00, c10, c01, c11);
 }
 
 u32 tint_copied(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff800000u; }

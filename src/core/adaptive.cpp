@@ -178,11 +178,9 @@ RT64K_HOT_ABI void flush(Context& c) {
     Vec3 color[4];
     PathRecord paths[4];
     trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
-    u32 packed4[4];
-    if (count == 4) pack_color4(color, packed4);
     for (int k = 0; k < count; ++k) {
       int j = i + k;
-      u32 packed = count == 4 ? packed4[k] : pack_color(color[k]);
+      u32 packed = pack_color(color[k]);
       b.out[j]->packed = packed;
       b.out[j]->path = paths[k];
       b.out[j]->state = kKnown; // (a spare's is not read)
@@ -349,17 +347,13 @@ RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 pa
   adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-RT64K_HOT_ABI bool interpolate_square(u32* row, int stride, int span, v4i corners);
+inline void interpolate_pixels(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
+                               int yEnd, u32 c00, u32 c10, u32 c01, u32 c11);
 
 RT64K_COLD RT64K_HOT_ABI void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10,
                                           u32 c01, u32 c11) {
   mark(f, b, kInterpolated);
-  v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
-  int span = b.x1 - b.x0;
-  if (!(span == b.y1 - b.y0 && b.xEnd == b.x1 && b.yEnd == b.y1 &&
-        interpolate_square(f.fb + b.y0 * f.stride + b.x0, f.stride, span, corners)))
-    adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01,
-                         c11);
+  interpolate_pixels(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
   if (!f.showBlocks) return;
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x)
@@ -652,24 +646,21 @@ typedef u64 u64_unaligned __attribute__((aligned(4), may_alias));
 // q unless r > 2^(shift-1), where Q already carries to q + 1 and the added
 // bit cannot carry further; at a tie (r = 2^(shift-1), Q's low bits all
 // ones) it is q, and q odd carries to q + 1.
-template <int kShift> inline v8s round_even(v8s q) {
-  v8s one = {1, 1, 1, 1, 1, 1, 1, 1};
-  return __builtin_ia32_psrawi128(q + (__builtin_ia32_psrawi128(q, kShift) & one), kShift);
+inline v8s round_even(v8s q, v8s shift, v8s one) {
+  return __builtin_ia32_psraw128(q + (__builtin_ia32_psraw128(q, shift) & one), shift);
 }
 
-// An S x S block (S = 2^s, 2 <= S <= 8) that owns neither its right column
-// nor its bottom row (every base and split block but those at the image's
-// right and bottom edges): the bilinear value times S^2 is an integer,
-// P(x, y) = T(x) S + (B(x) - T(x)) y with T(x) = a (S - x) + b x along the
-// top and B(x) likewise along the bottom, at most 255 * 64 = 16,320: a
-// signed 16-bit lane. Two pixels a register (lanes 0-3 pixel x, 4-7 pixel
-// x + 1), a row is the row above plus B - T, and each pixel is P / S^2
-// rounded to nearest, ties to even: the same pixels as the float path
-// below, whose every step is exact for these spans (multiples of 1/64
-// below 512), rounded by cvtps2dq.
-template <int kLog> RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, v4i corners) {
-  constexpr int kSize = 1 << kLog, kShift = 2 * kLog;
-  constexpr short kHalfLess1 = (1 << (kShift - 1)) - 1;
+// An S x S block (S = 2^s, s = 1, 2 or 3) that owns neither its right
+// column nor its bottom row (every base and split block but those at the
+// image's right and bottom edges), from its top-left pixel `row`: the
+// bilinear value times S^2 is an integer, P(x, y) = T(x) S + (B(x) - T(x)) y
+// with T(x) = a (S - x) + b x along the top and B(x) likewise along the
+// bottom, at most 255 * 64 = 16,320: a signed 16-bit lane. Two pixels a
+// register (lanes 0-3 pixel x, 4-7 pixel x + 1), a row is the row above
+// plus B - T, and each pixel is P / S^2 rounded to nearest, ties to even:
+// the same pixels as the float path below, whose every step is exact for
+// these spans (multiples of 1/64 below 512), rounded by cvtps2dq.
+RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i corners) {
   corners |= (v4i){-16777216, -16777216, -16777216, -16777216}; // alpha 255
   v16c zero = {};
   v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
@@ -677,29 +668,31 @@ template <int kLog> RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, in
   // [e | e] with e = b - a (f = d - c): the change a pixel along the top.
   v8s e = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)ab, 0x4e) - ab), 0x44);
   v8s f = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)cd, 0x4e) - cd), 0x44);
-  v8s t = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)ab, 0x44), kLog) +
+  v8s t = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)ab, 0x44), s) +
           (v8s)__builtin_ia32_pslldqi128((v2ll)e, 64); // T(0) | T(1)
-  v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), kLog) +
+  v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), s) +
                (v8s)__builtin_ia32_pslldqi128((v2ll)f, 64);
   v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
-  v8s bias = {kHalfLess1, kHalfLess1, kHalfLess1, kHalfLess1,
-              kHalfLess1, kHalfLess1, kHalfLess1, kHalfLess1};
-  v8s q0 = __builtin_ia32_psllwi128(t, kLog) + bias, dq = __builtin_ia32_psllwi128(e + e, kLog);
+  int size = 1 << s;
+  short h = (short)((1 << (2 * s - 1)) - 1);
+  v8s bias = {h, h, h, h, h, h, h, h}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  v8s shift = (v8s)(v2ll){2 * s, 0}; // psraw's count
+  v8s q0 = __builtin_ia32_psllwi128(t, s) + bias, dq = __builtin_ia32_psllwi128(e + e, s);
   v8s q1 = q0 + dq, d1 = d0 + dd;
   v8s q2 = q1 + dq, d2 = d1 + dd;
   v8s q3 = q2 + dq, d3 = d2 + dd;
-  for (int r = 0; r < kSize; ++r, row += stride) {
-    v16c out0 = __builtin_ia32_packuswb128(round_even<kShift>(q0), round_even<kShift>(q1));
+  for (int r = 0; r < size; ++r, row += stride) {
+    v16c out0 = __builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
     q0 += d0;
     q1 += d1;
-    if (kSize == 2) {
+    if (size == 2) {
       *(u64_unaligned*)row = (u64)((v2ll)out0)[0];
       continue;
     }
     *(v4i_unaligned*)row = (v4i)out0;
-    if (kSize == 4) continue;
+    if (size == 4) continue;
     *(v4i_unaligned*)(row + 4) =
-        (v4i)__builtin_ia32_packuswb128(round_even<kShift>(q2), round_even<kShift>(q3));
+        (v4i)__builtin_ia32_packuswb128(round_even(q2, shift, one), round_even(q3, shift, one));
     q2 += d2;
     q3 += d3;
   }
@@ -744,27 +737,25 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int
   }
 }
 
-// A square block of 2, 4 or 8 px owning neither its right column nor its
-// bottom row, from its top-left pixel `row`: interpolated exactly (true);
-// else nothing written (false).
-bool interpolate_square(u32* row, int stride, int span, v4i corners) {
-  if (span == 8) interpolate_exact<3>(row, stride, corners);
-  else if (span == 4) interpolate_exact<2>(row, stride, corners);
-  else if (span == 2) interpolate_exact<1>(row, stride, corners);
-  else return false;
-  return true;
+// adaptive_interpolate (and the renderer's blocks, without the call's
+// stack arguments): the exact path where it applies (most blocks), else the
+// float path.
+inline void interpolate_pixels(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
+                               int yEnd, u32 c00, u32 c10, u32 c01, u32 c11) {
+  int span = x1 - x0;
+  if (span == y1 - y0 && xEnd == x1 && yEnd == y1 && (span == 2 || span == 4 || span == 8)) {
+    v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+    interpolate_exact(fb + y0 * stride + x0, stride, __builtin_ctz(span), corners);
+  } else {
+    interpolate_float(fb, stride, x0, y0, x1, y1, xEnd, yEnd, c00, c10, c01, c11);
+  }
 }
 
 } // namespace
 
-// The exact path where it applies (most blocks), else the float path.
 void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
                           u32 c00, u32 c10, u32 c01, u32 c11) {
-  v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
-  if (x1 - x0 == y1 - y0 && xEnd == x1 && yEnd == y1 &&
-      interpolate_square(fb + y0 * stride + x0, stride, x1 - x0, corners))
-    return;
-  interpolate_float(fb, stride, x0, y0, x1, y1, xEnd, yEnd, c00, c10, c01, c11);
+  interpolate_pixels(fb, stride, x0, y0, x1, y1, xEnd, yEnd, c00, c10, c01, c11);
 }
 
 u32 tint_copied(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff800000u; }

@@ -112,8 +112,9 @@ constexpr int kMaxInterpolated = 8;
 typedef Sample* Edge;
 
 RT64K_HOT_ABI void clear_states(Edge e, int count) {
-  for (int i = 0; i < count; ++i)
-    e[i].state = kUnknown;
+  for (; count >= 2; count -= 2, e += 2) // (two a step: half the loop's own work)
+    e[0].state = e[1].state = kUnknown;
+  if (count > 0) e->state = kUnknown;
 }
 
 // A base block that splits or is traced per pixel reads and writes the

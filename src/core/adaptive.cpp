@@ -182,10 +182,11 @@ RT64K_HOT_ABI void flush(Context& c) {
     for (int k = 0; k < count; ++k) {
       int j = i + k;
       u32 packed = pack_color(color[k]);
-      b.out[j]->packed = packed;
-      b.out[j]->path = paths[k];
-      b.out[j]->state = kKnown; // (a spare's is not read)
-      if (b.pixel[j]) *b.pixel[j] = packed;
+      Sample* out = b.out[j]; // (loaded once: the stores below may alias the batch)
+      out->packed = packed;
+      out->path = paths[k];
+      out->state = kKnown; // (a spare's is not read)
+      if (u32* pixel = b.pixel[j]) *pixel = packed;
       if (f.kinds) {
         u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
         if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));

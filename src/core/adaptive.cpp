@@ -507,20 +507,26 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
       process_group(c, kids, k);
       k = 0;
     }
+    // Per column (qx) and row (qy) of children, chosen once per block.
+    int x0s[2] = {n.x0, n.xm}, x1s[2] = {n.splitX ? n.xm : n.x1, n.x1};
+    int xEnds[2] = {n.splitX ? n.xm : n.xEnd, n.xEnd}, dxs[2] = {0, a};
+    int y0s[2] = {n.y0, n.ym}, y1s[2] = {n.splitY ? n.ym : n.y1, n.y1};
+    int yEnds[2] = {n.splitY ? n.ym : n.yEnd, n.yEnd}, dys[2] = {0, b};
+    Edge lefts[2] = {n.left, n.v}, rights[2] = {n.splitX ? n.v : n.right, n.right};
+    Edge tops[2] = {n.top, n.h}, bottoms[2] = {n.splitY ? n.h : n.bottom, n.bottom};
     for (int qy = 0; qy < ny; ++qy)
       for (int qx = 0; qx < nx; ++qx) {
         Node& kid = kids[k++];
-        kid.x0 = qx ? n.xm : n.x0;
-        kid.x1 = qx || nx == 1 ? n.x1 : n.xm;
-        kid.xEnd = qx == nx - 1 ? n.xEnd : n.xm;
-        kid.y0 = qy ? n.ym : n.y0;
-        kid.y1 = qy || ny == 1 ? n.y1 : n.ym;
-        kid.yEnd = qy == ny - 1 ? n.yEnd : n.ym;
-        int dx = qx ? a : 0, dy = qy ? b : 0;
-        kid.top = (qy ? n.h : n.top) + dx;
-        kid.bottom = (qy == ny - 1 ? n.bottom : n.h) + dx;
-        kid.left = (qx ? n.v : n.left) + dy;
-        kid.right = (qx == nx - 1 ? n.right : n.v) + dy;
+        kid.x0 = x0s[qx];
+        kid.x1 = x1s[qx];
+        kid.xEnd = xEnds[qx];
+        kid.y0 = y0s[qy];
+        kid.y1 = y1s[qy];
+        kid.yEnd = yEnds[qy];
+        kid.top = tops[qy] + dxs[qx];
+        kid.bottom = bottoms[qy] + dxs[qx];
+        kid.left = lefts[qx] + dys[qy];
+        kid.right = rights[qx] + dys[qy];
       }
   }
   if (k) process_group(c, kids, k);

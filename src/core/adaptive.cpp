@@ -165,7 +165,35 @@ struct Context {
   int used;
   const Node* base; // the base block being processed
   bool large;       // the block being split is larger than kMaxInterpolated
+  // The band's two column arrays (a base block's left and right sides, in
+  // turn), the x each was last started for (open_column; -1: none), and
+  // what start_column needs: the band's lines of corners and height.
+  Edge columns[2];
+  int columnX[2];
+  Edge top, bottom;
+  int h;
 };
+
+// A column array for the block side x = x of the band: ends copied from the
+// lines, inside unknown.
+RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
+  clear_states(col + 1, h - 1);
+  copy_slot(col, 0, top, x);
+  copy_slot(col, h, bottom, x);
+}
+
+// A base block that splits or is traced per pixel reads and writes its left
+// and right sides; one copied or interpolated reads only its corners, from
+// the lines. So a column is started (start_column) only when the first of
+// the two base blocks it separates needs it: the block on its left (as its
+// right side) or else the one on its right (as its left side, which the
+// block on its left, not needing it, has not touched).
+RT64K_COLD RT64K_HOT_ABI void open_column(Context& c, Edge col, int x) {
+  int i = col == c.columns[1];
+  if (c.columnX[i] == x) return;
+  c.columnX[i] = x;
+  start_column(col, c.top, c.bottom, x, c.h);
+}
 
 // The one place the adaptive renderer casts primary rays: traces the batch,
 // four samples at a time (trace_primary4: an SSE2 packet; the samples of a
@@ -457,6 +485,8 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
     if (&n == c.base) {
       open_side(n.top, w);
       open_side(n.bottom, w);
+      open_column(c, n.left, n.x0);
+      open_column(c, n.right, n.x1);
     }
     if (is_small(f, w, h)) {
       n.kind = kTraced;
@@ -556,14 +586,6 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   flush(c);
 }
 
-// A column array for the block side x = x of the band: ends copied from the
-// lines, inside unknown.
-RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
-  clear_states(col + 1, h - 1);
-  copy_slot(col, 0, top, x);
-  copy_slot(col, h, bottom, x);
-}
-
 RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   Context c;
   c.f = &f;
@@ -577,18 +599,21 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   Edge top = line_edge(f, band), bottom = line_edge(f, band + 1);
   if (h == 0) bottom = top; // a one-pixel-high image
   Edge scratch = band_scratch_edge(f, band);
-  Edge columns[2] = {scratch, scratch + (B + 1)}; // a block's left side, then its right
+  c.columns[0] = scratch; // a block's left side, then its right (open_column)
+  c.columns[1] = scratch + (B + 1);
+  c.columnX[0] = c.columnX[1] = -1;
+  c.top = top;
+  c.bottom = bottom;
+  c.h = h;
   int left = 0;
   c.scratch = scratch + 2 * (B + 1);
   c.used = 0;
-  start_column(columns[left], top, bottom, 0, h);
   for (int i = 0; i + 1 < f.gridW; ++i) {
     int x0 = grid_coord(i, B, f.width), x1 = grid_coord(i + 1, B, f.width);
     int xEnd = i + 2 == f.gridW ? f.width : x1;
     int right = x1 == x0 ? left : left ^ 1; // a one-pixel-wide image: one column
-    if (right != left) start_column(columns[right], top, bottom, x1, h);
-    Node n =
-        make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, columns[left], columns[right]);
+    Node n = make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, c.columns[left],
+                       c.columns[right]);
     c.base = &n;
     process_group(c, &n, 1);
     left = right;

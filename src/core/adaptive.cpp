@@ -511,7 +511,7 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
     }
     if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
   }
-  flush(c);
+  if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];
   int k = 0;
   for (int i = 0; i < count; ++i) {

@@ -608,13 +608,18 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   int left = 0;
   c.scratch = scratch + 2 * (B + 1);
   c.used = 0;
-  for (int i = 0; i + 1 < f.gridW; ++i) {
-    int x0 = grid_coord(i, B, f.width), x1 = grid_coord(i + 1, B, f.width);
-    int xEnd = i + 2 == f.gridW ? f.width : x1;
+  Node n = make_node(0, y0, 0, y1, 0, yEnd, top, bottom, c.columns[0], c.columns[0]);
+  c.base = &n;
+  for (int i = 0; i + 1 < f.gridW; ++i) { // n: the base block i, its left side columns[left]
+    int x0 = n.x1, x1 = grid_coord(i + 1, B, f.width);
     int right = x1 == x0 ? left : left ^ 1; // a one-pixel-wide image: one column
-    Node n = make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, c.columns[left],
-                       c.columns[right]);
-    c.base = &n;
+    n.x0 = x0;
+    n.x1 = x1;
+    n.xEnd = i + 2 == f.gridW ? f.width : x1;
+    n.top = top + x0;
+    n.bottom = bottom + x0;
+    n.left = c.columns[left];
+    n.right = c.columns[right];
     process_group(c, &n, 1);
     left = right;
   }

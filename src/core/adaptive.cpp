@@ -362,13 +362,17 @@ RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
   return f.corners + offset;
 }
 
-RT64K_HOT_ABI void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
-  if (!f.kinds) return;
+RT64K_COLD RT64K_HOT_ABI void mark_kinds(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x) {
       u8& k = f.kinds[y * f.width + x];
       k = (u8)((k & ~kKindMask) | kind);
     }
+}
+
+// (The test inline: most frames keep no kinds map.)
+inline void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
+  if (f.kinds) mark_kinds(f, b, kind);
 }
 
 RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {

@@ -381,17 +381,33 @@ RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 pa
   adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-inline void interpolate_pixels(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
-                               int yEnd, u32 c00, u32 c10, u32 c01, u32 c11);
+RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
+                                     int yEnd, u32 c00, u32 c10, u32 c01, u32 c11);
+RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i corners);
 
-RT64K_COLD RT64K_HOT_ABI void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10,
-                                          u32 c01, u32 c11) {
+RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const Node& b, u32 c00,
+                                                u32 c10, u32 c01, u32 c11) {
   mark(f, b, kInterpolated);
-  interpolate_pixels(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
+  // (The float path: the same pixels as the exact one where both apply.)
+  interpolate_float(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
   if (!f.showBlocks) return;
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x)
       f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
+}
+
+// Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
+// kinds map, no tints) go straight to the exact path; the rest through
+// interpolate_block.
+inline void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+  int span = b.x1 - b.x0;
+  if (!f.kinds && !f.showBlocks && span == b.y1 - b.y0 && b.xEnd == b.x1 && b.yEnd == b.y1 &&
+      (span == 2 || span == 4 || span == 8)) {
+    v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+    interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
+  } else {
+    interpolate_block(f, b, c00, c10, c01, c11);
+  }
 }
 
 RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
@@ -744,8 +760,9 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
 // the row a constant step: one pixel's four channels per SSE2 register,
 // four pixels per step. Exact at the corners: row y0 starts at c00 (step
 // 0 from it), row y1 is c01 and c11 themselves, column x1 is the right side.
-RT64K_COLD RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
-                                  int yEnd, u32 c00, u32 c10, u32 c01, u32 c11) {
+RT64K_COLD RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int y0, int x1, int y1,
+                                                int xEnd, int yEnd, u32 c00, u32 c10, u32 c01,
+                                                u32 c11) {
   int spanX = x1 - x0, spanY = y1 - y0;
   v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
   float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;

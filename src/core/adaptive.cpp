@@ -112,8 +112,9 @@ constexpr int kMaxInterpolated = 8;
 typedef Sample* Edge;
 
 RT64K_HOT_ABI void clear_states(Edge e, int count) {
-  for (int i = 0; i < count; ++i)
-    e[i].state = kUnknown;
+  for (; count >= 2; count -= 2, e += 2) // (two a step: half the loop's own work)
+    e[0].state = e[1].state = kUnknown;
+  if (count > 0) e->state = kUnknown;
 }
 
 // A base block that splits or is traced per pixel reads and writes the
@@ -164,7 +165,35 @@ struct Context {
   int used;
   const Node* base; // the base block being processed
   bool large;       // the block being split is larger than kMaxInterpolated
+  // The band's two column arrays (a base block's left and right sides, in
+  // turn), the x each was last started for (open_column; -1: none), and
+  // what start_column needs: the band's lines of corners and height.
+  Edge columns[2];
+  int columnX[2];
+  Edge top, bottom;
+  int h;
 };
+
+// A column array for the block side x = x of the band: ends copied from the
+// lines, inside unknown.
+RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
+  clear_states(col + 1, h - 1);
+  copy_slot(col, 0, top, x);
+  copy_slot(col, h, bottom, x);
+}
+
+// A base block that splits or is traced per pixel reads and writes its left
+// and right sides; one copied or interpolated reads only its corners, from
+// the lines. So a column is started (start_column) only when the first of
+// the two base blocks it separates needs it: the block on its left (as its
+// right side) or else the one on its right (as its left side, which the
+// block on its left, not needing it, has not touched).
+RT64K_COLD RT64K_HOT_ABI void open_column(Context& c, Edge col, int x) {
+  int i = col == c.columns[1];
+  if (c.columnX[i] == x) return;
+  c.columnX[i] = x;
+  start_column(col, c.top, c.bottom, x, c.h);
+}
 
 // The one place the adaptive renderer casts primary rays: traces the batch,
 // four samples at a time (trace_primary4: an SSE2 packet; the samples of a
@@ -181,10 +210,11 @@ RT64K_HOT_ABI void flush(Context& c) {
     for (int k = 0; k < count; ++k) {
       int j = i + k;
       u32 packed = pack_color(color[k]);
-      b.out[j]->packed = packed;
-      b.out[j]->path = paths[k];
-      b.out[j]->state = kKnown; // (a spare's is not read)
-      if (b.pixel[j]) *b.pixel[j] = packed;
+      Sample* out = b.out[j]; // (loaded once: the stores below may alias the batch)
+      out->packed = packed;
+      out->path = paths[k];
+      out->state = kKnown; // (a spare's is not read)
+      if (u32* pixel = b.pixel[j]) *pixel = packed;
       if (f.kinds) {
         u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
         if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
@@ -332,13 +362,17 @@ RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
   return f.corners + offset;
 }
 
-RT64K_HOT_ABI void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
-  if (!f.kinds) return;
+RT64K_COLD RT64K_HOT_ABI void mark_kinds(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x) {
       u8& k = f.kinds[y * f.width + x];
       k = (u8)((k & ~kKindMask) | kind);
     }
+}
+
+// (The test inline: most frames keep no kinds map.)
+inline void mark(const AdaptiveFrame& f, const Node& b, BlockKind kind) {
+  if (f.kinds) mark_kinds(f, b, kind);
 }
 
 RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 packed) {
@@ -347,14 +381,33 @@ RT64K_COLD RT64K_HOT_ABI void fill(const AdaptiveFrame& f, const Node& b, u32 pa
   adaptive_fill(f.fb, f.stride, b.x0, b.y0, b.xEnd, b.yEnd, packed);
 }
 
-RT64K_COLD RT64K_HOT_ABI void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10,
-                                          u32 c01, u32 c11) {
+RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
+                                     int yEnd, u32 c00, u32 c10, u32 c01, u32 c11);
+RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i corners);
+
+RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const Node& b, u32 c00,
+                                                u32 c10, u32 c01, u32 c11) {
   mark(f, b, kInterpolated);
-  adaptive_interpolate(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
+  // (The float path: the same pixels as the exact one where both apply.)
+  interpolate_float(f.fb, f.stride, b.x0, b.y0, b.x1, b.y1, b.xEnd, b.yEnd, c00, c10, c01, c11);
   if (!f.showBlocks) return;
   for (int y = b.y0; y < b.yEnd; ++y)
     for (int x = b.x0; x < b.xEnd; ++x)
       f.fb[y * f.stride + x] = tint_interpolated(f.fb[y * f.stride + x]);
+}
+
+// Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
+// kinds map, no tints) go straight to the exact path; the rest through
+// interpolate_block.
+inline void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+  int span = b.x1 - b.x0;
+  if (!f.kinds && !f.showBlocks && span == b.y1 - b.y0 && b.xEnd == b.x1 && b.yEnd == b.y1 &&
+      (span == 2 || span == 4 || span == 8)) {
+    v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+    interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
+  } else {
+    interpolate_block(f, b, c00, c10, c01, c11);
+  }
 }
 
 RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
@@ -452,6 +505,8 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
     if (&n == c.base) {
       open_side(n.top, w);
       open_side(n.bottom, w);
+      open_column(c, n.left, n.x0);
+      open_column(c, n.right, n.x1);
     }
     if (is_small(f, w, h)) {
       n.kind = kTraced;
@@ -476,7 +531,7 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
     }
     if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
   }
-  flush(c);
+  if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];
   int k = 0;
   for (int i = 0; i < count; ++i) {
@@ -502,20 +557,26 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
       process_group(c, kids, k);
       k = 0;
     }
+    // Per column (qx) and row (qy) of children, chosen once per block.
+    int x0s[2] = {n.x0, n.xm}, x1s[2] = {n.splitX ? n.xm : n.x1, n.x1};
+    int xEnds[2] = {n.splitX ? n.xm : n.xEnd, n.xEnd}, dxs[2] = {0, a};
+    int y0s[2] = {n.y0, n.ym}, y1s[2] = {n.splitY ? n.ym : n.y1, n.y1};
+    int yEnds[2] = {n.splitY ? n.ym : n.yEnd, n.yEnd}, dys[2] = {0, b};
+    Edge lefts[2] = {n.left, n.v}, rights[2] = {n.splitX ? n.v : n.right, n.right};
+    Edge tops[2] = {n.top, n.h}, bottoms[2] = {n.splitY ? n.h : n.bottom, n.bottom};
     for (int qy = 0; qy < ny; ++qy)
       for (int qx = 0; qx < nx; ++qx) {
         Node& kid = kids[k++];
-        kid.x0 = qx ? n.xm : n.x0;
-        kid.x1 = qx || nx == 1 ? n.x1 : n.xm;
-        kid.xEnd = qx == nx - 1 ? n.xEnd : n.xm;
-        kid.y0 = qy ? n.ym : n.y0;
-        kid.y1 = qy || ny == 1 ? n.y1 : n.ym;
-        kid.yEnd = qy == ny - 1 ? n.yEnd : n.ym;
-        int dx = qx ? a : 0, dy = qy ? b : 0;
-        kid.top = (qy ? n.h : n.top) + dx;
-        kid.bottom = (qy == ny - 1 ? n.bottom : n.h) + dx;
-        kid.left = (qx ? n.v : n.left) + dy;
-        kid.right = (qx == nx - 1 ? n.right : n.v) + dy;
+        kid.x0 = x0s[qx];
+        kid.x1 = x1s[qx];
+        kid.xEnd = xEnds[qx];
+        kid.y0 = y0s[qy];
+        kid.y1 = y1s[qy];
+        kid.yEnd = yEnds[qy];
+        kid.top = tops[qy] + dxs[qx];
+        kid.bottom = bottoms[qy] + dxs[qx];
+        kid.left = lefts[qx] + dys[qy];
+        kid.right = rights[qx] + dys[qy];
       }
   }
   if (k) process_group(c, kids, k);
@@ -545,14 +606,6 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   flush(c);
 }
 
-// A column array for the block side x = x of the band: ends copied from the
-// lines, inside unknown.
-RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int x, int h) {
-  clear_states(col + 1, h - 1);
-  copy_slot(col, 0, top, x);
-  copy_slot(col, h, bottom, x);
-}
-
 RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   Context c;
   c.f = &f;
@@ -566,19 +619,27 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   Edge top = line_edge(f, band), bottom = line_edge(f, band + 1);
   if (h == 0) bottom = top; // a one-pixel-high image
   Edge scratch = band_scratch_edge(f, band);
-  Edge columns[2] = {scratch, scratch + (B + 1)}; // a block's left side, then its right
+  c.columns[0] = scratch; // a block's left side, then its right (open_column)
+  c.columns[1] = scratch + (B + 1);
+  c.columnX[0] = c.columnX[1] = -1;
+  c.top = top;
+  c.bottom = bottom;
+  c.h = h;
   int left = 0;
   c.scratch = scratch + 2 * (B + 1);
   c.used = 0;
-  start_column(columns[left], top, bottom, 0, h);
-  for (int i = 0; i + 1 < f.gridW; ++i) {
-    int x0 = grid_coord(i, B, f.width), x1 = grid_coord(i + 1, B, f.width);
-    int xEnd = i + 2 == f.gridW ? f.width : x1;
+  Node n = make_node(0, y0, 0, y1, 0, yEnd, top, bottom, c.columns[0], c.columns[0]);
+  c.base = &n;
+  for (int i = 0; i + 1 < f.gridW; ++i) { // n: the base block i, its left side columns[left]
+    int x0 = n.x1, x1 = grid_coord(i + 1, B, f.width);
     int right = x1 == x0 ? left : left ^ 1; // a one-pixel-wide image: one column
-    if (right != left) start_column(columns[right], top, bottom, x1, h);
-    Node n =
-        make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, columns[left], columns[right]);
-    c.base = &n;
+    n.x0 = x0;
+    n.x1 = x1;
+    n.xEnd = i + 2 == f.gridW ? f.width : x1;
+    n.top = top + x0;
+    n.bottom = bottom + x0;
+    n.left = c.columns[left];
+    n.right = c.columns[right];
     process_group(c, &n, 1);
     left = right;
   }
@@ -599,12 +660,18 @@ BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, cons
 
 void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
-  for (int y = y0; y < yEnd; ++y) {
-    u32* row = fb + y * stride;
-    int x = x0;
-    for (; x + 4 <= xEnd; x += 4)
+  int w = xEnd - x0;
+  u32* row = fb + y0 * stride + x0;
+  for (int y = y0; y < yEnd; ++y, row += stride) {
+    if (w == 8) { // (the common case: an 8-px block's row)
+      *(v4i_unaligned*)row = four;
+      *(v4i_unaligned*)(row + 4) = four;
+      continue;
+    }
+    int x = 0;
+    for (; x + 4 <= w; x += 4)
       *(v4i_unaligned*)(row + x) = four;
-    for (; x < xEnd; ++x)
+    for (; x < w; ++x)
       row[x] = packed;
   }
 }
@@ -628,14 +695,74 @@ inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
 
 inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 
-} // namespace
+typedef long long v2ll __attribute__((vector_size(16)));
+typedef u64 u64_unaligned __attribute__((aligned(4), may_alias));
+
+// Rounds the row values Q = P + 2^(shift-1) - 1 of the exact path below to
+// P / 2^shift, nearest, ties to even (as cvtps2dq), per lane: (Q + the
+// lowest bit of Q >> shift) >> shift. With P = q 2^shift + r, Q >> shift is
+// q unless r > 2^(shift-1), where Q already carries to q + 1 and the added
+// bit cannot carry further; at a tie (r = 2^(shift-1), Q's low bits all
+// ones) it is q, and q odd carries to q + 1.
+inline v8s round_even(v8s q, v8s shift, v8s one) {
+  return __builtin_ia32_psraw128(q + (__builtin_ia32_psraw128(q, shift) & one), shift);
+}
+
+// An S x S block (S = 2^s, s = 1, 2 or 3) that owns neither its right
+// column nor its bottom row (every base and split block but those at the
+// image's right and bottom edges), from its top-left pixel `row`: the
+// bilinear value times S^2 is an integer, P(x, y) = T(x) S + (B(x) - T(x)) y
+// with T(x) = a (S - x) + b x along the top and B(x) likewise along the
+// bottom, at most 255 * 64 = 16,320: a signed 16-bit lane. Two pixels a
+// register (lanes 0-3 pixel x, 4-7 pixel x + 1), a row is the row above
+// plus B - T, and each pixel is P / S^2 rounded to nearest, ties to even:
+// the same pixels as the float path below, whose every step is exact for
+// these spans (multiples of 1/64 below 512), rounded by cvtps2dq.
+RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i corners) {
+  corners |= (v4i){-16777216, -16777216, -16777216, -16777216}; // alpha 255
+  v16c zero = {};
+  v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
+  v8s cd = (v8s)__builtin_ia32_punpckhbw128((v16c)corners, zero); // c | d
+  // [e | e] with e = b - a (f = d - c): the change a pixel along the top.
+  v8s e = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)ab, 0x4e) - ab), 0x44);
+  v8s f = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)cd, 0x4e) - cd), 0x44);
+  v8s t = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)ab, 0x44), s) +
+          (v8s)__builtin_ia32_pslldqi128((v2ll)e, 64); // T(0) | T(1)
+  v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), s) +
+               (v8s)__builtin_ia32_pslldqi128((v2ll)f, 64);
+  v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
+  int size = 1 << s;
+  short h = (short)((1 << (2 * s - 1)) - 1);
+  v8s bias = {h, h, h, h, h, h, h, h}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  v8s shift = (v8s)(v2ll){2 * s, 0}; // psraw's count
+  v8s q0 = __builtin_ia32_psllwi128(t, s) + bias, dq = __builtin_ia32_psllwi128(e + e, s);
+  v8s q1 = q0 + dq, d1 = d0 + dd;
+  v8s q2 = q1 + dq, d2 = d1 + dd;
+  v8s q3 = q2 + dq, d3 = d2 + dd;
+  for (int r = 0; r < size; ++r, row += stride) {
+    v16c out0 = __builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
+    q0 += d0;
+    q1 += d1;
+    if (size == 2) {
+      *(u64_unaligned*)row = (u64)((v2ll)out0)[0];
+      continue;
+    }
+    *(v4i_unaligned*)row = (v4i)out0;
+    if (size == 4) continue;
+    *(v4i_unaligned*)(row + 4) =
+        (v4i)__builtin_ia32_packuswb128(round_even(q2, shift, one), round_even(q3, shift, one));
+    q2 += d2;
+    q3 += d3;
+  }
+}
 
 // Per row, each channel's value at the block's left and right side; along
 // the row a constant step: one pixel's four channels per SSE2 register,
 // four pixels per step. Exact at the corners: row y0 starts at c00 (step
 // 0 from it), row y1 is c01 and c11 themselves, column x1 is the right side.
-void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
-                          u32 c00, u32 c10, u32 c01, u32 c11) {
+RT64K_COLD RT64K_HOT_ABI void interpolate_float(u32* fb, int stride, int x0, int y0, int x1, int y1,
+                                                int xEnd, int yEnd, u32 c00, u32 c10, u32 c01,
+                                                u32 c11) {
   int spanX = x1 - x0, spanY = y1 - y0;
   v4f a = channels(c00), b = channels(c10), c = channels(c01), d = channels(c11);
   float invX = spanX ? 1.0f / (float)spanX : 0.0f, invY = spanY ? 1.0f / (float)spanY : 0.0f;
@@ -667,6 +794,27 @@ void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, i
     // Only a block at the image's right edge owns its right corner column.
     if (xEnd > x1) row[x1] = pack_pixel(right);
   }
+}
+
+// adaptive_interpolate (and the renderer's blocks, without the call's
+// stack arguments): the exact path where it applies (most blocks), else the
+// float path.
+inline void interpolate_pixels(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd,
+                               int yEnd, u32 c00, u32 c10, u32 c01, u32 c11) {
+  int span = x1 - x0;
+  if (span == y1 - y0 && xEnd == x1 && yEnd == y1 && (span == 2 || span == 4 || span == 8)) {
+    v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
+    interpolate_exact(fb + y0 * stride + x0, stride, __builtin_ctz(span), corners);
+  } else {
+    interpolate_float(fb, stride, x0, y0, x1, y1, xEnd, yEnd, c00, c10, c01, c11);
+  }
+}
+
+} // namespace
+
+void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1, int xEnd, int yEnd,
+                          u32 c00, u32 c10, u32 c01, u32 c11) {
+  interpolate_pixels(fb, stride, x0, y0, x1, y1, xEnd, yEnd, c00, c10, c01, c11);
 }
 
 u32 tint_copied(u32 p) { return (p >> 1 & 0x7f7f7fu) | 0xff800000u; }

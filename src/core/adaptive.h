@@ -132,9 +132,11 @@ RT64K_HOT_ABI void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, 
 
 // Bilinear interpolation over the pixels [x0, xEnd) x [y0, yEnd) of fb
 // (xEnd <= x1 + 1, yEnd <= y1 + 1) of the packed colours c00 at (x0, y0),
-// c10 at (x1, y0), c01 at (x0, y1), c11 at (x1, y1): 8.16 fixed point per
-// channel, rounded to nearest, exact at the corners; alpha 255. SSE2, four
-// pixels a step.
+// c10 at (x1, y0), c01 at (x0, y1), c11 at (x1, y1): rounded to nearest,
+// exact at the corners; alpha 255. A square of 2, 4 or 8 px owning neither
+// its right column nor its bottom row in 16-bit integers (the exact value,
+// ties to even), any other block in float (SSE2, four pixels a step); the
+// same pixels where both apply (adaptive.cpp: interpolate_exact).
 RT64K_HOT_ABI void adaptive_interpolate(u32* fb, int stride, int x0, int y0, int x1, int y1,
                                         int xEnd, int yEnd, u32 c00, u32 c10, u32 c01, u32 c11);
 

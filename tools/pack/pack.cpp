@@ -576,6 +576,9 @@ int check(const char* originalPath, const char* packedPath) {
                 "headers, the address table's last zeros not in the file)\n",
                 file.size(), p.sizeOfHeaders, payloadBytes, kPayloadHeaderBytes, encodedBytes,
                 stubBytes, importBytes, padding);
+    if (std::memcmp(&file[rt64k::pack::model::kTwoByteHeaderOffset], rt64k::pack::model::kTwoByte,
+                    sizeof rt64k::pack::model::kTwoByte) != 0)
+      fail("the packed exe's headers do not hold the decoder's 0F-opcode table");
     if (read32(file, read32(file, 0x3c) + 24 + 64) != peChecksum(file))
       fail("the packed exe's CheckSum field is not its checksum");
     if (p.sizeOfHeaders + packed.rawSize != file.size())
@@ -590,16 +593,18 @@ int check(const char* originalPath, const char* packedPath) {
 // CNT_UNINITIALIZED_DATA for it (what ld writes for .bss, and UPX for its
 // UPX0); ld has no way to say so, so this step rewrites the first section's
 // header of the linked exe `in` into `out`.
-// size14: the import directory, its null entry and the names (stub.ld puts
-// them at the end of the second section, after the import address table)
-// go into the headers' free bytes, and the section ends at its last non-zero
-// byte before them (the loader zero-fills the rest of its virtual size): 92
-// bytes of the file's 116 of imports then cost none. First the DOS stub goes
-// (the PE header moves to offset 0x40; the loader reads only e_magic and
-// e_lfanew of the DOS header), which leaves 104 free bytes after the section
-// table. The directory's RVA is then its file offset (the headers are mapped
-// at RVA 0); the address table stays in the writable section. Fails, with
-// nothing written, on any other layout.
+// size14: the headers' free bytes take what the loader and the stub only
+// read. stub.ld puts the import directory, its null entry and the names at
+// the end of the second section, after the import address table; here the
+// DOS stub goes (the PE header moves to offset 0x40: the loader reads only
+// e_magic and e_lfanew of the DOS header), the names go into the DOS
+// header's unused bytes (0x02-0x3b), the directory right after the section
+// table, the decoder's 0F-opcode table after it (model.h's
+// kTwoByteHeaderOffset, where stub.ld puts its symbol), and the section ends
+// at its last non-zero byte before the moved part (the loader zero-fills the
+// rest of its virtual size). The directory's RVA is its file offset (the
+// headers are mapped at RVA 0); the address table stays in the writable
+// section. Fails, with nothing written, on any other layout.
 void moveImports(Bytes& file, const Pe& p) {
   auto put32 = [&](size_t at, unsigned v) {
     for (unsigned i = 0; i < 4; ++i)
@@ -607,10 +612,11 @@ void moveImports(Bytes& file, const Pe& p) {
   };
   const unsigned oldPe = read32(file, 0x3c);
   const size_t tableEnd = oldPe + 24 + read16(file, oldPe + 20) + 40 * p.sections.size();
-  constexpr unsigned kNewPe = 0x40;
+  constexpr unsigned kNewPe = 0x40, kNames = 0x02, kNamesEnd = 0x3c;
   if (oldPe < kNewPe || tableEnd > p.sizeOfHeaders) fail("unexpected PE header layout");
   std::memmove(&file[kNewPe], &file[oldPe], tableEnd - oldPe);
   std::memset(&file[kNewPe + (tableEnd - oldPe)], 0, oldPe - kNewPe);
+  std::memset(&file[kNames], 0, kNamesEnd - kNames);
   put32(0x3c, kNewPe);
   const unsigned opt = kNewPe + 24, free = unsigned(tableEnd - oldPe + kNewPe + 3) & ~3u;
   const Section& sec = p.sections[1];
@@ -620,27 +626,40 @@ void moveImports(Bytes& file, const Pe& p) {
   if (dir < sec.rva || dir >= end || sec.rawSize < sec.virtualSize || iat < sec.rva ||
       iat + p.dirSize[kDirIat] > dir)
     fail("the import directory is not at the end of the second section, after the address table");
-  const unsigned bytes = end - dir, delta = dir - free;
-  if (free + bytes > p.sizeOfHeaders)
-    fail("the import directory and names (" + std::to_string(bytes) +
-         " bytes) do not fit into the headers' free bytes");
   const size_t from = sec.rawOffset + (dir - sec.rva);
-  std::memcpy(&file[free], &file[from], bytes);
+  // The descriptors up to the null entry; the names after them.
+  unsigned dirBytes = 0;
+  for (;; dirBytes += 20) {
+    if (dir + dirBytes + 20 > end) fail("the import directory has no null entry");
+    if (read32(file, from + dirBytes + 12) == 0 && read32(file, from + dirBytes + 16) == 0) break;
+  }
+  dirBytes += 20;
+  const unsigned names = dir + dirBytes, nameBytes = end - names;
+  if (free + dirBytes > rt64k::pack::model::kTwoByteHeaderOffset || kNames + nameBytes > kNamesEnd)
+    fail("the import directory (" + std::to_string(dirBytes) + " bytes) or its names (" +
+         std::to_string(nameBytes) + ") do not fit into the headers' free bytes");
+  std::memcpy(&file[free], &file[from], dirBytes);
+  std::memcpy(&file[kNames], &file[from + dirBytes], nameBytes);
+  std::memcpy(&file[rt64k::pack::model::kTwoByteHeaderOffset], rt64k::pack::model::kTwoByte,
+              sizeof rt64k::pack::model::kTwoByte);
+  if (rt64k::pack::model::kTwoByteHeaderOffset + sizeof rt64k::pack::model::kTwoByte >
+      p.sizeOfHeaders)
+    fail("no room for the 0F-opcode table in the headers");
+  auto moved = [&](unsigned rva) {
+    if (rva < names || rva >= end) fail("an import name outside the moved part");
+    return rva - names + kNames;
+  };
   // Descriptors: the names move; the lookup table must be absent (0).
-  for (unsigned d = free;; d += 20) {
-    if (d + 20 > free + bytes) fail("the import directory has no null entry");
-    const unsigned name = read32(file, d + 12), thunk = read32(file, d + 16);
-    if (name == 0 && thunk == 0) break;
+  for (unsigned d = free; d + 20 < free + dirBytes; d += 20) {
     if (read32(file, d) != 0) fail("an import lookup table (the stub's has none)");
-    if (name < dir || name >= end || thunk < iat || thunk >= dir)
-      fail("an import descriptor outside the moved part");
-    put32(d + 12, name - delta);
+    const unsigned thunk = read32(file, d + 16);
+    if (thunk < iat || thunk >= dir) fail("an import descriptor's address table outside its own");
+    put32(d + 12, moved(read32(file, d + 12)));
   }
   // The address table's entries (RVAs of hint/name entries) move too.
   for (unsigned slot = iat; slot + 8 <= dir; slot += 8) {
     const size_t at = sec.rawOffset + (slot - sec.rva);
-    const unsigned v = read32(file, at);
-    if (v >= dir && v < end) put32(at, v - delta);
+    if (read32(file, at) != 0) put32(at, moved(read32(file, at)));
   }
   put32(opt + 112 + 8 * kDirImport, free);
   // The section's file bytes end at its last non-zero byte before `dir`.

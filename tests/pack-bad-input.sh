@@ -86,6 +86,13 @@ expect_check() {
 # encoded image): a byte 1000 bytes into it flipped decodes to other bytes.
 cp "$packed" "$work/flipped.exe" && patch "$work/flipped.exe" $((512 + 16 + 1000)) 5a
 cmp -s "$packed" "$work/flipped.exe" || expect_check damaged_payload "$work/flipped.exe" "not the encoding"
+# size14's header layout (rt64k-pack finish): the decoder's 0F-opcode table
+# at 0x1c0 and the import directory in the headers (its data directory
+# entry at 0xd0: the PE header at 0x40, the optional header at 0x58).
+cp "$packed" "$work/table.exe" && patch "$work/table.exe" $((0x1c1)) 55
+expect_check header_table "$work/table.exe" "0F-opcode table"
+cp "$packed" "$work/importdir.exe" && patch "$work/importdir.exe" $((0xd0)) 00500000
+expect_check import_directory "$work/importdir.exe" "not in its headers"
 head -c 4096 "$packed" >"$work/short.exe"
 expect_check truncated_packed "$work/short.exe" "truncated"
 # No arguments: usage, exit 2.

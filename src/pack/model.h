@@ -111,6 +111,17 @@ alignas(1) inline const u8 kTwoByte[64] = {
     0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xFF, 0x40, 0x00, 0x00,
     0xAA, 0xAA, 0xAA, 0xAA, 0x00, 0x00, 0x00, 0x00, 0x15, 0x03, 0x15, 0x03, 0x00, 0x00, 0x30, 0x00,
     0x30, 0x3F, 0x55, 0x55, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
+// In the packed exe the stub reads kTwoByte from the headers' free bytes,
+// where `rt64k-pack finish` writes it (kTwoByteHeaderOffset, which stub.ld
+// gives the symbol; `rt64k-pack check` compares the bytes): 64 bytes of the
+// stub's section less (size14).
+constexpr u32 kTwoByteHeaderOffset = 0x1C0;
+#ifdef RT64K_PACK_STUB
+extern "C" const u8 rt64k_two_byte[64];
+#define RT64K_TWO_BYTE rt64k_two_byte
+#else
+#define RT64K_TWO_BYTE kTwoByte
+#endif
 
 // The next byte's role in the x86-64 instruction stream: an opcode or a
 // prefix, the opcode after 0F, a ModRM or SIB byte, or one of the `left`
@@ -168,7 +179,7 @@ struct X86 {
     } else {              // kOp0F
       // The 2-bit field's class: 0 ModRM (8), 1 nothing (0), 2 rel32 (2),
       // 3 ModRM + imm8 (9).
-      c = 0x9208u >> (kTwoByte[b >> 2] >> (b & 3) * 2 & 3) * 4 & 15;
+      c = 0x9208u >> (RT64K_TWO_BYTE[b >> 2] >> (b & 3) * 2 & 3) * 4 & 15;
       b |= 0x100;
     }
     rel = (b | 1) == 0xE9 || (b & 0x1F0) == 0x180 ? kFlagBranch : 0; // CALL, JMP, Jcc rel32

@@ -167,8 +167,9 @@ __asm__(".section .text$stub_start,\"x\"\n"
 // table itself, as the PE format allows), the address table of the two
 // functions (their `__imp_` symbols are what the calls above go through),
 // their hint/name entries (hint 0; each entry starts on an even address)
-// and the DLL's name. stub.ld adds the null descriptor and places these
-// sections in the import format's order.
+// and the DLL's name. stub.ld adds the null descriptor and puts the address
+// table first, then the directory and the names at the section's end, which
+// `rt64k-pack finish` moves into the headers' free bytes (size14).
 __asm__(".section .idata$2,\"w\"\n"
         "  .long 0, 0, 0\n"
         "  .rva rt64k_kernel32\n"

@@ -556,21 +556,29 @@ int check(const char* originalPath, const char* packedPath) {
           walked[i].dll != shortDllName(im.imports[i].dll))
         fail("import " + std::to_string(i) + " (" + walked[i].dll + ", hash " +
              std::to_string(walked[i].hash) + ") is not the original's " + im.imports[i].name);
-    const unsigned importDir = p.dirRva[kDirImport];
-    if (importDir < packed.rva || importDir >= packed.rva + packed.virtualSize)
-      fail("the packed exe's import directory is not in its second section");
+    // The import directory and names in the headers (rt64k-pack finish),
+    // the address table at the second section's end.
+    const unsigned importDir = p.dirRva[kDirImport], iatRva = p.dirRva[kDirIat];
+    if (importDir == 0 || importDir + p.dirSize[kDirImport] > p.sizeOfHeaders)
+      fail("the packed exe's import directory is not in its headers");
+    if (iatRva < packed.rva || iatRva + p.dirSize[kDirIat] != packed.rva + packed.virtualSize)
+      fail("the packed exe's import address table does not end its second section");
     const unsigned payloadBytes = kPayloadHeaderBytes + encodedBytes;
-    const unsigned importBytes = packed.rva + packed.virtualSize - importDir;
+    const unsigned importBytes = p.dirSize[kDirIat];
     const unsigned stubBytes = packed.virtualSize - payloadBytes - importBytes;
-    const unsigned padding = packed.rawSize - packed.virtualSize;
+    const int padding = int(packed.rawSize) - int(packed.virtualSize);
     std::printf("rt64k-pack check: %s decodes to %s's %u image bytes: identical but for %u bytes "
                 "of its import directory, replaced by a list of its %zu imports, which give the "
                 "same functions' hashes for the same IAT slots\n",
                 packedPath, originalPath, bytes, differing, walked.size());
     std::printf("  %zu bytes = headers %u + payload %u (record %u, encoded %u) + stub code and "
-                "constants %u + imports %u + padding %u\n",
+                "constants %u + imports %u + padding %d (the import directory and names in the "
+                "headers, the address table's last zeros not in the file)\n",
                 file.size(), p.sizeOfHeaders, payloadBytes, kPayloadHeaderBytes, encodedBytes,
                 stubBytes, importBytes, padding);
+    if (std::memcmp(&file[rt64k::pack::model::kTwoByteHeaderOffset], rt64k::pack::model::kTwoByte,
+                    sizeof rt64k::pack::model::kTwoByte) != 0)
+      fail("the packed exe's headers do not hold the decoder's 0F-opcode table");
     if (read32(file, read32(file, 0x3c) + 24 + 64) != peChecksum(file))
       fail("the packed exe's CheckSum field is not its checksum");
     if (p.sizeOfHeaders + packed.rawSize != file.size())
@@ -585,6 +593,87 @@ int check(const char* originalPath, const char* packedPath) {
 // CNT_UNINITIALIZED_DATA for it (what ld writes for .bss, and UPX for its
 // UPX0); ld has no way to say so, so this step rewrites the first section's
 // header of the linked exe `in` into `out`.
+// size14: the headers' free bytes take what the loader and the stub only
+// read. stub.ld puts the import directory, its null entry and the names at
+// the end of the second section, after the import address table; here the
+// DOS stub goes (the PE header moves to offset 0x40: the loader reads only
+// e_magic and e_lfanew of the DOS header), the names go into the DOS
+// header's unused bytes (0x02-0x3b), the directory right after the section
+// table, the decoder's 0F-opcode table after it (model.h's
+// kTwoByteHeaderOffset, where stub.ld puts its symbol), and the section ends
+// at its last non-zero byte before the moved part (the loader zero-fills the
+// rest of its virtual size). The directory's RVA is its file offset (the
+// headers are mapped at RVA 0); the address table stays in the writable
+// section. Fails, with nothing written, on any other layout.
+void moveImports(Bytes& file, const Pe& p) {
+  auto put32 = [&](size_t at, unsigned v) {
+    for (unsigned i = 0; i < 4; ++i)
+      file[at + i] = (unsigned char)(v >> 8 * i);
+  };
+  const unsigned oldPe = read32(file, 0x3c);
+  const size_t tableEnd = oldPe + 24 + read16(file, oldPe + 20) + 40 * p.sections.size();
+  constexpr unsigned kNewPe = 0x40, kNames = 0x02, kNamesEnd = 0x3c;
+  if (oldPe < kNewPe || tableEnd > p.sizeOfHeaders) fail("unexpected PE header layout");
+  std::memmove(&file[kNewPe], &file[oldPe], tableEnd - oldPe);
+  std::memset(&file[kNewPe + (tableEnd - oldPe)], 0, oldPe - kNewPe);
+  std::memset(&file[kNames], 0, kNamesEnd - kNames);
+  put32(0x3c, kNewPe);
+  const unsigned opt = kNewPe + 24, free = unsigned(tableEnd - oldPe + kNewPe + 3) & ~3u;
+  const Section& sec = p.sections[1];
+  const size_t secHeader = kNewPe + 24 + read16(file, kNewPe + 20) + 40;
+  const unsigned dir = p.dirRva[kDirImport], iat = p.dirRva[kDirIat];
+  const unsigned end = sec.rva + sec.virtualSize; // the moved part: [dir, end)
+  if (dir < sec.rva || dir >= end || sec.rawSize < sec.virtualSize || iat < sec.rva ||
+      iat + p.dirSize[kDirIat] > dir)
+    fail("the import directory is not at the end of the second section, after the address table");
+  const size_t from = sec.rawOffset + (dir - sec.rva);
+  // The descriptors up to the null entry; the names after them.
+  unsigned dirBytes = 0;
+  for (;; dirBytes += 20) {
+    if (dir + dirBytes + 20 > end) fail("the import directory has no null entry");
+    if (read32(file, from + dirBytes + 12) == 0 && read32(file, from + dirBytes + 16) == 0) break;
+  }
+  dirBytes += 20;
+  const unsigned names = dir + dirBytes, nameBytes = end - names;
+  if (free + dirBytes > rt64k::pack::model::kTwoByteHeaderOffset || kNames + nameBytes > kNamesEnd)
+    fail("the import directory (" + std::to_string(dirBytes) + " bytes) or its names (" +
+         std::to_string(nameBytes) + ") do not fit into the headers' free bytes");
+  std::memcpy(&file[free], &file[from], dirBytes);
+  std::memcpy(&file[kNames], &file[from + dirBytes], nameBytes);
+  std::memcpy(&file[rt64k::pack::model::kTwoByteHeaderOffset], rt64k::pack::model::kTwoByte,
+              sizeof rt64k::pack::model::kTwoByte);
+  if (rt64k::pack::model::kTwoByteHeaderOffset + sizeof rt64k::pack::model::kTwoByte >
+      p.sizeOfHeaders)
+    fail("no room for the 0F-opcode table in the headers");
+  auto moved = [&](unsigned rva) {
+    if (rva < names || rva >= end) fail("an import name outside the moved part");
+    return rva - names + kNames;
+  };
+  // Descriptors: the names move; the lookup table must be absent (0).
+  for (unsigned d = free; d + 20 < free + dirBytes; d += 20) {
+    if (read32(file, d) != 0) fail("an import lookup table (the stub's has none)");
+    const unsigned thunk = read32(file, d + 16);
+    if (thunk < iat || thunk >= dir) fail("an import descriptor's address table outside its own");
+    put32(d + 12, moved(read32(file, d + 12)));
+  }
+  // The address table's entries (RVAs of hint/name entries) move too.
+  for (unsigned slot = iat; slot + 8 <= dir; slot += 8) {
+    const size_t at = sec.rawOffset + (slot - sec.rva);
+    if (read32(file, at) != 0) put32(at, moved(read32(file, at)));
+  }
+  put32(opt + 112 + 8 * kDirImport, free);
+  // The section's file bytes end at its last non-zero byte before `dir`.
+  unsigned kept = dir - sec.rva;
+  while (kept > 0 && file[sec.rawOffset + kept - 1] == 0)
+    --kept;
+  const unsigned align = read32(file, opt + 36); // FileAlignment
+  const unsigned raw = (kept + align - 1) / align * align;
+  put32(secHeader + 8, dir - sec.rva); // VirtualSize: up to the address table's end
+  put32(secHeader + 16, raw);          // SizeOfRawData
+  file.resize(sec.rawOffset + raw);
+  std::memset(&file[sec.rawOffset + kept], 0, raw - kept);
+}
+
 int finish(const char* inPath, const char* outPath) {
   return about(inPath, [&] {
     Bytes file = readFile(inPath);
@@ -600,7 +689,9 @@ int finish(const char* inPath, const char* outPath) {
     };
     put32(header + 16, 0);                           // SizeOfRawData
     put32(header + 36, kScnRwx | kScnUninitialised); // characteristics
-    put32(pe + 24 + 64, peChecksum(file));
+    moveImports(file, p);
+    const unsigned pe2 = read32(file, 0x3c);
+    put32(pe2 + 24 + 64, peChecksum(file));
     std::string text(file.begin(), file.end());
     writeFile(outPath, text, true);
     return 0;

@@ -64,6 +64,13 @@ unsigned read32(const Bytes& b, size_t at) {
   return b[at] | b[at + 1] << 8 | b[at + 2] << 16 | unsigned(b[at + 3]) << 24;
 }
 
+// Writes a little-endian 32-bit field inside the file (the caller has
+// checked the offset against the layout it parsed).
+void write32(Bytes& b, size_t at, unsigned v) {
+  for (unsigned i = 0; i < 4; ++i)
+    b[at + i] = (unsigned char)(v >> 8 * i);
+}
+
 unsigned long long read64(const Bytes& b, size_t at) {
   return read32(b, at) | (unsigned long long)read32(b, at + 4) << 32;
 }
@@ -606,10 +613,6 @@ int check(const char* originalPath, const char* packedPath) {
 // headers are mapped at RVA 0); the address table stays in the writable
 // section. Fails, with nothing written, on any other layout.
 void moveImports(Bytes& file, const Pe& p) {
-  auto put32 = [&](size_t at, unsigned v) {
-    for (unsigned i = 0; i < 4; ++i)
-      file[at + i] = (unsigned char)(v >> 8 * i);
-  };
   const unsigned oldPe = read32(file, 0x3c);
   const size_t tableEnd = oldPe + 24 + read16(file, oldPe + 20) + 40 * p.sections.size();
   constexpr unsigned kNewPe = 0x40, kNames = 0x02, kNamesEnd = 0x3c;
@@ -617,7 +620,7 @@ void moveImports(Bytes& file, const Pe& p) {
   std::memmove(&file[kNewPe], &file[oldPe], tableEnd - oldPe);
   std::memset(&file[kNewPe + (tableEnd - oldPe)], 0, oldPe - kNewPe);
   std::memset(&file[kNames], 0, kNamesEnd - kNames);
-  put32(0x3c, kNewPe);
+  write32(file, 0x3c, kNewPe);
   const unsigned opt = kNewPe + 24, free = unsigned(tableEnd - oldPe + kNewPe + 3) & ~3u;
   const Section& sec = p.sections[1];
   const size_t secHeader = kNewPe + 24 + read16(file, kNewPe + 20) + 40;
@@ -654,22 +657,22 @@ void moveImports(Bytes& file, const Pe& p) {
     if (read32(file, d) != 0) fail("an import lookup table (the stub's has none)");
     const unsigned thunk = read32(file, d + 16);
     if (thunk < iat || thunk >= dir) fail("an import descriptor's address table outside its own");
-    put32(d + 12, moved(read32(file, d + 12)));
+    write32(file, d + 12, moved(read32(file, d + 12)));
   }
   // The address table's entries (RVAs of hint/name entries) move too.
   for (unsigned slot = iat; slot + 8 <= dir; slot += 8) {
     const size_t at = sec.rawOffset + (slot - sec.rva);
-    if (read32(file, at) != 0) put32(at, moved(read32(file, at)));
+    if (read32(file, at) != 0) write32(file, at, moved(read32(file, at)));
   }
-  put32(opt + 112 + 8 * kDirImport, free);
+  write32(file, opt + 112 + 8 * kDirImport, free);
   // The section's file bytes end at its last non-zero byte before `dir`.
   unsigned kept = dir - sec.rva;
   while (kept > 0 && file[sec.rawOffset + kept - 1] == 0)
     --kept;
   const unsigned align = read32(file, opt + 36); // FileAlignment
   const unsigned raw = (kept + align - 1) / align * align;
-  put32(secHeader + 8, dir - sec.rva); // VirtualSize: up to the address table's end
-  put32(secHeader + 16, raw);          // SizeOfRawData
+  write32(file, secHeader + 8, dir - sec.rva); // VirtualSize: up to the address table's end
+  write32(file, secHeader + 16, raw);          // SizeOfRawData
   file.resize(sec.rawOffset + raw);
   std::memset(&file[sec.rawOffset + kept], 0, raw - kept);
 }
@@ -683,15 +686,11 @@ int finish(const char* inPath, const char* outPath) {
       fail("not a linked stub (two sections, the first at RVA 0x1000 without file bytes, RWX)");
     const unsigned pe = read32(file, 0x3c);
     const size_t header = pe + 24 + read16(file, pe + 20);
-    auto put32 = [&](size_t at, unsigned v) {
-      for (unsigned i = 0; i < 4; ++i)
-        file[at + i] = (unsigned char)(v >> 8 * i);
-    };
-    put32(header + 16, 0);                           // SizeOfRawData
-    put32(header + 36, kScnRwx | kScnUninitialised); // characteristics
+    write32(file, header + 16, 0);                           // SizeOfRawData
+    write32(file, header + 36, kScnRwx | kScnUninitialised); // characteristics
     moveImports(file, p);
     const unsigned pe2 = read32(file, 0x3c);
-    put32(pe2 + 24 + 64, peChecksum(file));
+    write32(file, pe2 + 24 + 64, peChecksum(file));
     std::string text(file.begin(), file.end());
     writeFile(outPath, text, true);
     return 0;

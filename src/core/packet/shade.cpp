@@ -1,0 +1,230 @@
+// shade.cpp - four primary shading points at once; the contract is in
+// shade.h. Every expression below repeats trace_tree's (trace.cpp) for the
+// root node (depth 1, weight 1, nothing passed through glass yet), lane by
+// lane, in the same order: where trace_tree multiplies by the weight 1 or
+// adds to a sum of 0, so does this code, so that no rounding differs.
+#include "packet/shade.h"
+
+#include "packet/pow4.h"
+
+namespace {
+
+// Three float lanes: a Vec3 in each of four lanes.
+struct V4 {
+  f4 x, y, z;
+};
+inline V4 operator+(V4 a, V4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V4 operator-(V4 a, V4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V4 operator*(V4 a, f4 s) { return {a.x * s, a.y * s, a.z * s}; }
+inline V4 operator*(V4 a, V4 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline f4 dot(V4 a, V4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V4 splat(Vec3 v) { return {f4_of(v.x), f4_of(v.y), f4_of(v.z)}; }
+inline f4 max4(f4 a, f4 b) { return a > b ? a : b; } // rt_max
+inline Vec3 lane(V4 v, int k) { return Vec3{v.x[k], v.y[k], v.z[k]}; }
+inline V4 select(i4 m, V4 a, V4 b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+
+// Four floats from p, unaligned.
+inline f4 load4(const float* p) {
+  f4 r;
+  __builtin_memcpy(&r, p, 16);
+  return r;
+}
+
+// The rows r[k] (four floats from row pointer k) as columns: out[c][k] = r[k][c].
+inline void columns(const float* const r[4], f4 out[4]) {
+  f4 a = load4(r[0]), b = load4(r[1]), c = load4(r[2]), d = load4(r[3]);
+  f4 ab0 = __builtin_ia32_unpcklps(a, b), cd0 = __builtin_ia32_unpcklps(c, d);
+  f4 ab1 = __builtin_ia32_unpckhps(a, b), cd1 = __builtin_ia32_unpckhps(c, d);
+  out[0] = __builtin_ia32_movlhps(ab0, cd0);
+  out[1] = __builtin_ia32_movhlps(cd0, ab0);
+  out[2] = __builtin_ia32_movlhps(ab1, cd1);
+  out[3] = __builtin_ia32_movhlps(cd1, ab1);
+}
+
+// A V4 stored lane by lane: v[c][k] is component c of lane k.
+struct Lanes3 {
+  alignas(16) float v[3][4];
+  void set(V4 a) {
+    *(f4*)v[0] = a.x;
+    *(f4*)v[1] = a.y;
+    *(f4*)v[2] = a.z;
+  }
+  Vec3 lane(int k) const { return Vec3{v[0][k], v[1][k], v[2][k]}; }
+};
+
+} // namespace
+
+void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4], Hit hit[4],
+                    u32 lanes, PathRecord* paths, Vec3 color[4]) {
+  const Scene& s = *ctx.scene;
+  V4 D = {dir[0], dir[1], dir[2]};
+  Lanes3 dirs;
+  dirs.set(D);
+  for (u32 q = lanes; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
+  }
+  // Each lane's object, material and hit as columns (the lanes outside
+  // `lanes` repeat the first lane's, so that every lane computes with
+  // finite numbers).
+  int first = __builtin_ctz(lanes);
+  const Object* obj[4];
+  const float *rowC[4], *rowS[4], *rowI[4], *rowH[4];
+  f4 size;
+  alignas(16) i32 frontOf[4];
+  for (int k = 0; k < 4; ++k) {
+    int src = lanes >> k & 1 ? k : first;
+    const Object* o = obj[k] = &s.objects[id[src]];
+    rowC[k] = &o->mat.color.x;  // color, diffuse
+    rowS[k] = &o->mat.specular; // specular, shininess, reflect, transmit
+    rowI[k] = &o->mat.transmit; // transmit, ior, roughness, f0
+    rowH[k] = &hit[src].t;      // t, normal
+    size[k] = o->shape.size;
+    frontOf[k] = -(i32)hit[src].front;
+  }
+  f4 c[4], sp[4], gl[4], h[4];
+  columns(rowC, c);
+  columns(rowS, sp);
+  columns(rowI, gl);
+  columns(rowH, h);
+  V4 mc = {c[0], c[1], c[2]}, N = {h[1], h[2], h[3]};
+  f4 T4 = h[0], diffuse = c[3], specular = sp[0], shininess = sp[1], reflect = sp[2];
+  f4 transmit = sp[3], ior = gl[1];
+  i4 front = *(i4*)frontOf;
+  f4 zero = f4_of(0.0f), one = f4_of(1.0f);
+  i4 live = lanes_of(lanes);
+  V4 p = splat(org) + D * T4;
+  V4 col = splat(s.ambient) * mc;
+  f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
+  alignas(16) float off[4];
+  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (size + T4); // spawn_offset
+  V4 lightOrg = p + N * *(f4*)off;
+
+  RootNode root[4];
+  u32 waiting[4] = {0, 0, 0, 0};
+  int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
+  if (1 < maxDepth) {
+    // Snell where the material transmits; the mirror ray everywhere.
+    i4 glass = transmit > zero;
+    f4 eta = glass ? (front ? 1.0f / ior : ior) : one;
+    V4 negD = {-D.x, -D.y, -D.z};
+    f4 cosI = glass ? dot(N, negD) : one;
+    f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
+    i4 tir = glass & (sin2T > one);
+    alignas(16) float fR[4], dR[4], dT[4];
+    *(f4*)fR = reflect + (tir ? transmit : zero);
+    u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
+    u32 castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
+    V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
+    *(f4*)dR = dot(R, N);
+    Lanes3 dirR, orgR, dirT, orgT;
+    dirR.set(R);
+    orgR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off));
+    if (castT) {
+      V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
+      f4 len2 = dot(a, a);
+      V4 T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
+      *(f4*)dT = dot(T, N);
+      dirT.set(T);
+      orgT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off));
+    }
+    for (u32 q = castR | castT; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      const Shape& sh = obj[k]->shape;
+      u32 self = 1u << id[k];
+      u32 only = (s.aloneMask & self) && off[k] <= 0.5f * kAloneSlack * sh.size
+                     ? (u32)(id[k] + 1) << kOnlyShift
+                     : 0;
+      if (castR >> k & 1) {
+        u32 skip = leaves_for_good_dot(sh, hit[k], dR[k]) ? self : only;
+        root[k].child[1] = Pending{Ray{orgR.lane(k), dirR.lane(k)}, 1.0f * fR[k], skip, false};
+        waiting[k] |= 1u << (kRootSlot + 1);
+        ++ctx.stats.secondary;
+      }
+      if (castT >> k & 1) {
+        u32 skip = leaves_for_good_dot(sh, hit[k], dT[k]) ? self : only;
+        root[k].child[0] =
+            Pending{Ray{orgT.lane(k), dirT.lane(k)}, 1.0f * obj[k]->mat.transmit, skip, true};
+        waiting[k] |= 1u << kRootSlot;
+        ++ctx.stats.secondary;
+      }
+    }
+  }
+
+  // The lights: the terms in lanes, each lane's shadow ray through the
+  // scalar transmittance() (a primary ray records: every lit term casts one).
+  u32 bits[4] = {0, 0, 0, 0}, range[4], inside = 0;
+  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
+  Lanes3 lo;
+  lo.set(lightOrg);
+  for (u32 m = lanes; m; m &= m - 1) {
+    int k = __builtin_ctz(m);
+    const Shape& sh = obj[k]->shape;
+    bool flat = sh.kind == kPlane || sh.kind == kTriangle;
+    range[k] = flat || frontOf[k] ? foreground & ~(1u << id[k]) : foreground;
+    inside |= (u32)(!frontOf[k] && closed_convex(sh)) << k;
+  }
+  for (int li = 0; li < s.numLights; ++li) {
+    const Light& light = s.lights[li];
+    V4 toLight = splat(light.pos) - lightOrg;
+    alignas(16) float dist[4];
+    *(f4*)dist = lane_sqrt(dot(toLight, toLight));
+    V4 L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
+    f4 NdotL = dot(N, L);
+    u32 lit = lane_bits((NdotL > zero) & live);
+    if (!lit) continue;
+    // Phong (shade4_supported): V.R = -(I.R), R = N (2 N.L) - L.
+    f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
+    i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+    f4 spec = zero;
+    if (lit & ~lane_bits(cut)) spec = cut ? zero : specular * rt_pow4(VdotR, shininess);
+    V4 term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+    Lanes3 dirL, through;
+    dirL.set(L);
+    through.set(V4{one, one, one});
+    u32 shadowed = 0;
+    ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
+    for (u32 q = lit; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      Vec3 Lk = dirL.lane(k);
+      u32 objects = shadow_mask(s, li, Lk, dist[k], range[k]);
+      if (!objects) continue; // lit: code 0, through 1
+      u32 self = 1u << id[k];
+      bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
+      int code = 0;
+      Vec3 tr = shadow_objects(s, Ray{lo.lane(k), Lk}, dist[k], objects, code, exits ? self : 0);
+      through.v[0][k] = tr.x;
+      through.v[1][k] = tr.y;
+      through.v[2][k] = tr.z;
+      shadowed |= (u32)(code == 3) << k;
+      bits[k] |= (u32)code << (5 + 3 * li);
+    }
+    i4 add = lanes_of(lit & ~shadowed);
+    V4 tv = {*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+    col = select(add, col + term * tv, col);
+    if (paths) {
+      u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
+      for (; high; high &= high - 1)
+        bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+    }
+  }
+  Lanes3 sum;
+  sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight
+
+  for (u32 m = lanes; m; m &= m - 1) {
+    int k = __builtin_ctz(m);
+    if (paths) {
+      PathRecord& rec = paths[k];
+      rec.node[0] = (u32)(id[k] + 1) | bits[k];
+      rec.count = 1;
+      ctx.record = &rec;
+    }
+    if (waiting[k]) {
+      root[k].waiting = waiting[k];
+      root[k].sum = sum.lane(k);
+      color[k] = trace_children(ctx, root[k]);
+    } else {
+      color[k] = sum.lane(k) * 1.0f; // sum * (1 / rootWeight)
+    }
+  }
+}

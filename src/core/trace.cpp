@@ -202,13 +202,14 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     // The root was shaded by the caller: start at its first waiting child,
     // as the loop's end would pop it (the loop itself as without a root: a
     // test in it for the root's case cost 0.5-0.9 % of a frame).
-    pending[kRootSlot] = root->child[0];
-    pending[kRootSlot + 1] = root->child[1];
+    // The first is read in place; a refracted ray after a reflected one
+    // waits in its slot.
     waiting = root->waiting;
     sum = root->sum;
     int slot = 31 - __builtin_clz(waiting);
     waiting ^= 1u << slot;
-    const Pending& next = pending[slot];
+    if (waiting) pending[kRootSlot] = root->child[0];
+    const Pending& next = root->child[slot - kRootSlot];
     cur = &next.ray;
     weight = next.weight;
     depth = slot >> 1;

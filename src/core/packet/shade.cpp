@@ -52,6 +52,13 @@ struct Lanes3 {
   Vec3 lane(int k) const { return Vec3{v[0][k], v[1][k], v[2][k]}; }
 };
 
+// Phong's specular term where the kSpecExp cut leaves it, r_S (V.R)^h: out
+// of line, as few lanes need it (its double lanes would make the caller
+// align its frame to 32 bytes).
+__attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 cut) {
+  return cut ? f4_of(0.0f) : specular * rt_pow4(VdotR, shininess);
+}
+
 } // namespace
 
 void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4], Hit hit[4],
@@ -72,6 +79,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
   const float *rowC[4], *rowS[4], *rowI[4], *rowH[4];
   f4 size;
   alignas(16) i32 frontOf[4];
+  u32 range[4], inside = 0;
+  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
   for (int k = 0; k < 4; ++k) {
     int src = lanes >> k & 1 ? k : first;
     const Object* o = obj[k] = &s.objects[id[src]];
@@ -81,6 +90,11 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     rowH[k] = &hit[src].t;      // t, normal
     size[k] = o->shape.size;
     frontOf[k] = -(i32)hit[src].front;
+    // What the shadow rays test (trace_tree's shadowRange and `inside`).
+    const Shape& sh = o->shape;
+    bool flat = sh.kind == kPlane || sh.kind == kTriangle;
+    range[k] = flat || hit[src].front ? foreground & ~(1u << id[src]) : foreground;
+    inside |= (u32)(!hit[src].front && closed_convex(sh)) << k;
   }
   f4 c[4], sp[4], gl[4], h[4];
   columns(rowC, c);
@@ -153,17 +167,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
 
   // The lights: the terms in lanes, each lane's shadow ray through the
   // scalar transmittance() (a primary ray records: every lit term casts one).
-  u32 bits[4] = {0, 0, 0, 0}, range[4], inside = 0;
-  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
+  u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
-  for (u32 m = lanes; m; m &= m - 1) {
-    int k = __builtin_ctz(m);
-    const Shape& sh = obj[k]->shape;
-    bool flat = sh.kind == kPlane || sh.kind == kTriangle;
-    range[k] = flat || frontOf[k] ? foreground & ~(1u << id[k]) : foreground;
-    inside |= (u32)(!frontOf[k] && closed_convex(sh)) << k;
-  }
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
     V4 toLight = splat(light.pos) - lightOrg;
@@ -177,7 +183,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
     i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
     f4 spec = zero;
-    if (lit & ~lane_bits(cut)) spec = cut ? zero : specular * rt_pow4(VdotR, shininess);
+    if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
     V4 term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
     Lanes3 dirL, through;
     dirL.set(L);

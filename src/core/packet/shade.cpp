@@ -23,6 +23,12 @@ inline f4 max4(f4 a, f4 b) { return a > b ? a : b; } // rt_max
 inline Vec3 lane(V4 v, int k) { return Vec3{v.x[k], v.y[k], v.z[k]}; }
 inline V4 select(i4 m, V4 a, V4 b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
 
+// leaves_for_good_dot() (shapes.h) with the hit's front side given.
+inline bool leaves(const Shape& sh, bool front, float d) {
+  if (sh.kind == kPlane || sh.kind == kTriangle) return true;
+  return front ? d > 0 : d < 0;
+}
+
 // Four floats from p, unaligned.
 inline f4 load4(const float* p) {
   f4 r;
@@ -65,46 +71,109 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
                     u32 lanes, PathRecord* paths, Vec3 color[4]) {
   const Scene& s = *ctx.scene;
   V4 D = {dir[0], dir[1], dir[2]};
-  Lanes3 dirs;
-  dirs.set(D);
-  for (u32 q = lanes; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
-  }
-  // Each lane's object, material and hit as columns (the lanes outside
-  // `lanes` repeat the first lane's, so that every lane computes with
-  // finite numbers).
   int first = __builtin_ctz(lanes);
   const Object* obj[4];
-  const float *rowC[4], *rowS[4], *rowI[4], *rowH[4];
-  f4 size;
   alignas(16) i32 frontOf[4];
   u32 range[4], inside = 0;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
-  for (int k = 0; k < 4; ++k) {
-    int src = lanes >> k & 1 ? k : first;
-    const Object* o = obj[k] = &s.objects[id[src]];
-    rowC[k] = &o->mat.color.x;  // color, diffuse
-    rowS[k] = &o->mat.specular; // specular, shininess, reflect, transmit
-    rowI[k] = &o->mat.transmit; // transmit, ior, roughness, f0
-    rowH[k] = &hit[src].t;      // t, normal
-    size[k] = o->shape.size;
-    frontOf[k] = -(i32)hit[src].front;
-    // What the shadow rays test (trace_tree's shadowRange and `inside`).
-    const Shape& sh = o->shape;
-    bool flat = sh.kind == kPlane || sh.kind == kTriangle;
-    range[k] = flat || hit[src].front ? foreground & ~(1u << id[src]) : foreground;
-    inside |= (u32)(!hit[src].front && closed_convex(sh)) << k;
+  V4 mc, N;
+  f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior;
+  i4 front;
+  const Object& o0 = s.objects[id[first]];
+  bool uniform = o0.shape.kind == kSphere || o0.shape.kind == kPlane;
+  for (u32 q = lanes; q; q &= q - 1)
+    uniform &= id[__builtin_ctz(q)] == id[first];
+  if (uniform) {
+    // Every lane sees one sphere or plane (most calls): the material in
+    // every lane, and hit_normal() (shapes.cpp) in lanes: sphere_outward()
+    // where |m|^2 lies in [r^2 / 4, 4 r^2], then face(); plane_normal().
+    // The other lanes (a sphere's band) through the scalar hit_normal().
+    const Material& mt = o0.mat;
+    mc = splat(mt.color);
+    diffuse = f4_of(mt.diffuse);
+    specular = f4_of(mt.specular);
+    shininess = f4_of(mt.shininess);
+    reflect = f4_of(mt.reflect);
+    transmit = f4_of(mt.transmit);
+    ior = f4_of(mt.ior);
+    size = f4_of(o0.shape.size);
+    i4 piece;
+    for (int k = 0; k < 4; ++k) {
+      int src = lanes >> k & 1 ? k : first;
+      obj[k] = &o0;
+      T4[k] = hit[src].t;
+      piece[k] = hit[src].piece;
+    }
+    const Shape& sh = o0.shape;
+    V4 A = splat(sh.a);
+    u32 self = 1u << id[first];
+    if (sh.kind == kPlane) {
+      front = piece != i4_of(0);
+      N = select(front, A, V4{-A.x, -A.y, -A.z});
+    } else {
+      V4 m = (splat(org) - A) + D * T4;
+      f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
+      u32 ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
+      V4 out = m * (1.0f / lane_sqrt(len2));
+      front = dot(out, D) < f4_of(0.0f);
+      N = select(front, out, V4{-out.x, -out.y, -out.z});
+      for (u32 q = lanes & ~ok; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        hit_normal(sh, Ray{org, Vec3{D.x[k], D.y[k], D.z[k]}}, hit[k]);
+        N.x[k] = hit[k].normal.x;
+        N.y[k] = hit[k].normal.y;
+        N.z[k] = hit[k].normal.z;
+        front[k] = -(i32)hit[k].front;
+      }
+    }
+    *(i4*)frontOf = front;
+    for (int k = 0; k < 4; ++k) {
+      bool f = frontOf[k] != 0 || sh.kind == kPlane;
+      range[k] = f ? foreground & ~self : foreground;
+      inside |= (u32)!f << k; // a sphere is closed and convex
+    }
+  } else {
+    Lanes3 dirs;
+    dirs.set(D);
+    for (u32 q = lanes; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
+    }
+    // Each lane's object, material and hit as columns (the lanes outside
+    // `lanes` repeat the first lane's, so that every lane computes with
+    // finite numbers).
+    const float *rowC[4], *rowS[4], *rowI[4], *rowH[4];
+    for (int k = 0; k < 4; ++k) {
+      int src = lanes >> k & 1 ? k : first;
+      const Object* o = obj[k] = &s.objects[id[src]];
+      rowC[k] = &o->mat.color.x;  // color, diffuse
+      rowS[k] = &o->mat.specular; // specular, shininess, reflect, transmit
+      rowI[k] = &o->mat.transmit; // transmit, ior, roughness, f0
+      rowH[k] = &hit[src].t;      // t, normal
+      size[k] = o->shape.size;
+      frontOf[k] = -(i32)hit[src].front;
+      // What the shadow rays test (trace_tree's shadowRange and `inside`).
+      const Shape& sh = o->shape;
+      bool flat = sh.kind == kPlane || sh.kind == kTriangle;
+      range[k] = flat || hit[src].front ? foreground & ~(1u << id[src]) : foreground;
+      inside |= (u32)(!hit[src].front && closed_convex(sh)) << k;
+    }
+    f4 c[4], sp[4], gl[4], h[4];
+    columns(rowC, c);
+    columns(rowS, sp);
+    columns(rowI, gl);
+    columns(rowH, h);
+    mc = V4{c[0], c[1], c[2]};
+    N = V4{h[1], h[2], h[3]};
+    T4 = h[0];
+    diffuse = c[3];
+    specular = sp[0];
+    shininess = sp[1];
+    reflect = sp[2];
+    transmit = sp[3];
+    ior = gl[1];
+    front = *(i4*)frontOf;
   }
-  f4 c[4], sp[4], gl[4], h[4];
-  columns(rowC, c);
-  columns(rowS, sp);
-  columns(rowI, gl);
-  columns(rowH, h);
-  V4 mc = {c[0], c[1], c[2]}, N = {h[1], h[2], h[3]};
-  f4 T4 = h[0], diffuse = c[3], specular = sp[0], shininess = sp[1], reflect = sp[2];
-  f4 transmit = sp[3], ior = gl[1];
-  i4 front = *(i4*)frontOf;
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   i4 live = lanes_of(lanes);
   V4 p = splat(org) + D * T4;
@@ -150,13 +219,13 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
                      ? (u32)(id[k] + 1) << kOnlyShift
                      : 0;
       if (castR >> k & 1) {
-        u32 skip = leaves_for_good_dot(sh, hit[k], dR[k]) ? self : only;
+        u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
         root[k].child[1] = Pending{Ray{orgR.lane(k), dirR.lane(k)}, 1.0f * fR[k], skip, false};
         waiting[k] |= 1u << (kRootSlot + 1);
         ++ctx.stats.secondary;
       }
       if (castT >> k & 1) {
-        u32 skip = leaves_for_good_dot(sh, hit[k], dT[k]) ? self : only;
+        u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
         root[k].child[0] =
             Pending{Ray{orgT.lane(k), dirT.lane(k)}, 1.0f * obj[k]->mat.transmit, skip, true};
         waiting[k] |= 1u << kRootSlot;

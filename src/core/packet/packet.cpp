@@ -324,7 +324,7 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
     }
   } else {
     // The misses here; the hits' shading points in lanes (packet/shade.h).
-    int id[4];
+    int id[4] = {-1, -1, -1, -1};
     Hit hit[4];
     u32 hits = 0;
     for (u32 m = live; m; m &= m - 1) {

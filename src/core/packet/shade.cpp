@@ -80,9 +80,10 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
   f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior;
   i4 front;
   const Object& o0 = s.objects[id[first]];
-  bool uniform = o0.shape.kind == kSphere || o0.shape.kind == kPlane;
-  for (u32 q = lanes; q; q &= q - 1)
-    uniform &= id[__builtin_ctz(q)] == id[first];
+  i4 ids;
+  __builtin_memcpy(&ids, id, 16); // lanes outside `lanes` do not count
+  bool uniform = (o0.shape.kind == kSphere || o0.shape.kind == kPlane) &&
+                 (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
   if (uniform) {
     // Every lane sees one sphere or plane (most calls): the material in
     // every lane, and hit_normal() (shapes.cpp) in lanes: sphere_outward()

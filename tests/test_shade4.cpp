@@ -1,10 +1,11 @@
 // test_shade4.cpp - the four-lane shading point (packet/shade.h) and its
 // maths (packet/pow4.h) against the scalar code, bit for bit.
 //
-// rt_pow4, rt_log2_4 and rt_exp2_4 against rt_pow, rt_log2 and rt_exp2 over
+// rt_pow4, rt_log2_4, rt_exp2_4 and rt_exp_nonpositive4 against rt_pow,
+// rt_log2, rt_exp2 and rt_exp_nonpositive over
 // millions of seeded inputs and the edge cases (zeros of both signs,
 // denormals, 1, NaN, Inf, the range ends of exp2, the kSpecExp cut of
-// Phong's power); trace_primary4() against trace_primary() per lane (colour
+// Phong's power, exp's underflow); trace_primary4() against trace_primary() per lane (colour
 // bits, records, ray counts) on packets of 1 to 4 pixels that mix objects,
 // misses and silhouette pixels (grazing rays) over frames of both scenes.
 #include <gtest/gtest.h>
@@ -74,6 +75,35 @@ TEST(Shade4, PowLog2Exp2MatchTheScalarBitForBitOnSeededInputs) {
   EXPECT_EQ(m.exp2, 0);
   EXPECT_EQ(m.pow, 0);
   EXPECT_EQ(m.lanes, 4000000);
+}
+
+// Cook-Torrance's D: rt_exp_nonpositive() of x <= 0 (and of anything
+// else, whose lanes must match too), seeded and at the edges.
+TEST(Shade4, ExpNonpositiveMatchesTheScalarBitForBit) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> neg(-100.0f, 0.0f), small(-1.0f, 0.0f);
+  std::uniform_int_distribution<u32> bits(0, 0xffffffffu);
+  const float inf = rt_from_bits(0x7f800000u), nan = rt_from_bits(0x7fc00000u);
+  const float edges[] = {0.0f,     -0.0f,     -1e-45f,  -1e-38f,  -87.3365f, -87.33655f,
+                         -87.336f, -87.34f,   -88.0f,   -1e9f,    -inf,      nan,
+                         -0.5f,    -0.34657f, -0.3466f, -0.6931f, -1.0f,     -16.0f};
+  long differ = 0, lanes = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    f4 x;
+    for (int k = 0; k < 4; ++k) {
+      int r = (i + k) % 8;
+      x[k] = r < 4 ? neg(rng)
+                   : (r < 6 ? small(rng)
+                            : (r < 7 ? rt_from_bits(bits(rng)) : edges[(i / 8 + k) % 18]));
+    }
+    f4 e = rt_exp_nonpositive4(x);
+    for (int k = 0; k < 4; ++k) {
+      differ += !same_bits(e[k], rt_exp_nonpositive(x[k]));
+      ++lanes;
+    }
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(lanes, 4000000);
 }
 
 TEST(Shade4, PowLog2Exp2MatchTheScalarOnEdgeInputs) {
@@ -158,7 +188,7 @@ TEST(Shade4, PacketsOfMixedObjectsMissesAndSilhouettesMatchPerLane) {
   long silhouettes = 0;
   for (int frame = 0; frame < 24; ++frame) {
     Scene s;
-    build_timeline_scene(s, frame < 18 ? t1(rng) : t2(rng)); // scene 1 shades in lanes
+    build_timeline_scene(s, frame < 12 ? t1(rng) : t2(rng)); // Phong, then Cook-Torrance
     CameraRays cam = camera_rays(s, w, h);
     std::vector<int> ids(w * h);
     for (int y = 0; y < h; ++y)

@@ -1,8 +1,10 @@
-// pow4.h - rtmath's rt_log2, rt_exp2 and rt_pow (rtmath.h) in four lanes,
+// pow4.h - rtmath's rt_log2, rt_exp2, rt_pow and rt_exp_nonpositive
+// (rtmath.h) in four lanes,
 // bit for bit: each lane takes the scalar function's steps, the same float
 // and double operations in the same order (the double steps two lanes at a
 // time, as SSE2 has them), and its branches become selects. For Phong's
-// (V.R)^h at four shading points at once (packet/shade.cpp);
+// (V.R)^h and Cook-Torrance's D at four shading points at once
+// (packet/shade.cpp);
 // tests/test_shade4.cpp compares them with the scalar functions over
 // millions of seeded and edge inputs.
 #pragma once
@@ -46,6 +48,17 @@ inline f4 rt_exp2_4(f4 xf) {
   i4 k = __builtin_convertvector(x + (x < zero ? -half : half), i4);
   f4 r = rt_exp2_reduced4(x, k);
   return xf > f4_of(-126.0f) ? r : f4_of(0.0f);
+}
+
+// rt_exp_nonpositive() (rtmath.h): y = x log2(e) in double, 0 where
+// !(y > -126), else rt_exp2_reduced(y, (i32)(y - 0.5)).
+inline f4 rt_exp_nonpositive4(f4 xf) {
+  d4 y = __builtin_convertvector(xf, d4) * 1.4426950408889634;
+  d4 half = {0.5, 0.5, 0.5, 0.5}, low = {-126.0, -126.0, -126.0, -126.0};
+  i4 k = __builtin_convertvector(y - half, i4);
+  f4 r = rt_exp2_reduced4(y, k);
+  i4 in = __builtin_convertvector(y > low, i4); // -1 (true) or 0 per lane
+  return in ? r : f4_of(0.0f);
 }
 
 // rt_pow(): 1 where y = 0, else 0 where !(x > 0), else exp2(y log2 x).

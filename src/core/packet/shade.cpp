@@ -65,6 +65,33 @@ __attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 
   return cut ? f4_of(0.0f) : specular * rt_pow4(VdotR, shininess);
 }
 
+// cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
+// kSpecExp test cuts it (or N.h <= 0). I is the incident direction.
+__attribute__((noinline)) f4 cook_torrance4(V4 N, V4 I, V4 L, f4 roughness, f4 f0) {
+  f4 zero = f4_of(0.0f), one = f4_of(1.0f);
+  V4 h = L - I;
+  f4 nh = dot(N, h), m2 = roughness * roughness;
+  i4 cut = ~(nh > zero) | (dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh));
+  if (!(~lane_bits(cut) & 15)) return zero;
+  f4 hh = dot(h, h);
+  V4 H = select(hh > f4_of(1e-30f), h * (1.0f / lane_sqrt(hh)), N); // normalize(h, N)
+  f4 nH = dot(N, H);
+  f4 NdotH = nH < zero ? zero : (nH > one ? one : nH); // rt_clamp(., 0, 1)
+  f4 NdotV = max4(-dot(N, I), f4_of(kCosEps));
+  f4 NdotL = max4(dot(N, L), zero);
+  f4 VdotH = max4(-dot(I, H), 0.5f * (NdotV + NdotL));
+  f4 x = 1.0f - VdotH, x2 = x * x;
+  f4 F = f0 + x2 * x2 * x * (1.0f - f0);
+  f4 mn = NdotV < NdotL ? NdotV : NdotL;
+  f4 g = 2.0f * NdotH * mn / VdotH;
+  f4 G = one < g ? one : g; // rt_min(1, g)
+  f4 c2 = NdotH * NdotH;
+  f4 D = rt_exp_nonpositive4((c2 - 1.0f) / (c2 * m2)) / (kPi * m2 * c2 * c2);
+  D = c2 > f4_of(kCos2Min) ? D : zero;
+  f4 r = F * D * G / NdotV;
+  return cut ? zero : r;
+}
+
 } // namespace
 
 void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4], Hit hit[4],
@@ -77,15 +104,16 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
   u32 range[4], inside = 0;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
   V4 mc, N;
-  f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior;
+  f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior, roughness, f0;
   i4 front;
   const Object& o0 = s.objects[id[first]];
   i4 ids;
   __builtin_memcpy(&ids, id, 16); // lanes outside `lanes` do not count
-  bool uniform = (o0.shape.kind == kSphere || o0.shape.kind == kPlane) &&
+  ShapeKind kind0 = o0.shape.kind;
+  bool uniform = (kind0 == kSphere || kind0 == kPlane || kind0 == kTriangle) &&
                  (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
   if (uniform) {
-    // Every lane sees one sphere or plane (most calls): the material in
+    // Every lane sees one sphere, plane or triangle (most calls): the material in
     // every lane, and hit_normal() (shapes.cpp) in lanes: sphere_outward()
     // where |m|^2 lies in [r^2 / 4, 4 r^2], then face(); plane_normal().
     // The other lanes (a sphere's band) through the scalar hit_normal().
@@ -97,6 +125,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     reflect = f4_of(mt.reflect);
     transmit = f4_of(mt.transmit);
     ior = f4_of(mt.ior);
+    roughness = f4_of(mt.roughness);
+    f0 = f4_of(mt.f0);
     size = f4_of(o0.shape.size);
     i4 piece;
     for (int k = 0; k < 4; ++k) {
@@ -108,9 +138,13 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     const Shape& sh = o0.shape;
     V4 A = splat(sh.a);
     u32 self = 1u << id[first];
-    if (sh.kind == kPlane) {
+    if (kind0 == kPlane) {
       front = piece != i4_of(0);
       N = select(front, A, V4{-A.x, -A.y, -A.z});
+    } else if (kind0 == kTriangle) {
+      V4 out = splat(Vec3{sh.r0, sh.r1, sh.h}); // normalize(n), stored
+      front = dot(out, D) < f4_of(0.0f);
+      N = select(front, out, V4{-out.x, -out.y, -out.z});
     } else {
       V4 m = (splat(org) - A) + D * T4;
       f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
@@ -129,7 +163,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     }
     *(i4*)frontOf = front;
     for (int k = 0; k < 4; ++k) {
-      bool f = frontOf[k] != 0 || sh.kind == kPlane;
+      bool f = frontOf[k] != 0 || kind0 != kSphere;
       range[k] = f ? foreground & ~self : foreground;
       inside |= (u32)!f << k; // a sphere is closed and convex
     }
@@ -173,6 +207,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     reflect = sp[2];
     transmit = sp[3];
     ior = gl[1];
+    roughness = gl[2];
+    f0 = gl[3];
     front = *(i4*)frontOf;
   }
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
@@ -249,12 +285,19 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     f4 NdotL = dot(N, L);
     u32 lit = lane_bits((NdotL > zero) & live);
     if (!lit) continue;
-    // Phong (shade4_supported): V.R = -(I.R), R = N (2 N.L) - L.
-    f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
-    i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+    // The light's term unshadowed (trace_tree's `lit`).
     f4 spec = zero;
-    if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
-    V4 term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+    V4 term;
+    if (s.model == kPhong) {
+      // V.R = -(I.R), R = N (2 N.L) - L.
+      f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
+      i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+      if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
+      term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+    } else {
+      spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
+      term = mc * (diffuse * NdotL + spec) * splat(light.color);
+    }
     Lanes3 dirL, through;
     dirL.set(L);
     through.set(V4{one, one, one});

@@ -127,7 +127,8 @@ __attribute__((always_inline)) inline Vec3 shadow_ray(TraceContext& ctx, int lig
 // bit for bit (negation is exact and round-to-nearest symmetric; a zero's
 // sign, which the two forms may give differently, is lost in the rt_max
 // with a positive floor), so the caller keeps no negated copy.
-float cook_torrance(const Material& m, Vec3 N, Vec3 I, Vec3 L) {
+__attribute__((always_inline)) inline float cook_torrance(const Material& m, Vec3 N, Vec3 I,
+                                                          Vec3 L) {
   Vec3 h = L - I;
   float nh = dot(N, h), m2 = m.roughness * m.roughness;
   if (!(nh > 0) || dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh)) return 0.0f;
@@ -181,9 +182,13 @@ constexpr int kFindHit = -2;
 // so that intro.exe holds one copy of the nearest-hit search (a second,
 // inlined into trace(), cost 430 packed bytes).
 //
-// With `root` set, the root (a primary ray's node, depth 1, weight 1) was
-// shaded elsewhere (the packet tracer, packet/shade.h): the loop starts at
-// its waiting children with its share of the sum (trace_children()).
+// Resume (trace_children()): the root (a primary ray's node, depth 1,
+// weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
+// `root` holds its waiting children and its share of the sum. A template
+// argument, so that trace() and trace_hit() keep the loop without the
+// resume (intro.exe, which links no packet code, holds that copy only:
+// its bytes and instructions are main's; the native tool holds both).
+template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
                                      int depth, float weight, u32 skip, const RootNode* root) {
   const Scene& s = *ctx.scene;
@@ -198,10 +203,10 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   Vec3 sum = v3(0.0f);
   // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
-  if (root) {
-    // The root was shaded by the caller: start at its first waiting child,
-    // as the loop's end would pop it (the loop itself as without a root: a
-    // test in it for the root's case cost 0.5-0.9 % of a frame).
+  if (Resume) {
+    // Start at the root's first waiting child, as the loop's end would pop
+    // it (the loop itself as without a root: a test in it for the root's
+    // case cost 0.5-0.9 % of a frame).
     // The first is read in place; a refracted ray after a reflected one
     // waits in its slot.
     waiting = root->waiting;
@@ -382,12 +387,12 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
   // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
-  return trace_tree(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
-                    nullptr);
+  return trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
+                           nullptr);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  return trace_tree(ctx, ray, id, hit, depth, weight, 0, nullptr);
+  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
 }
 
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
@@ -396,7 +401,7 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
 
 Vec3 trace_children(TraceContext& ctx, const RootNode& root) {
   Hit hit;
-  return trace_tree(ctx, root.child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root);
+  return trace_tree<true>(ctx, root.child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root);
 }
 
 int first_hit_object(const Scene& scene, const Ray& ray) {

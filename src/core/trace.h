@@ -94,8 +94,10 @@ constexpr float kSpecExp = 16.0f;
 // trace() is its nearest-hit search (first_hit()) followed by trace_hit():
 // with `id` and `hit` (t, piece, local) as first_hit() gave them for `ray`,
 // it records the ray, shades the hit and casts the secondary rays, exactly
-// as trace() would. The packet tracer (packet/packet.h) finds first hits its
-// own way and shades each lane through here.
+// as trace() would. The scalar primary tracer (scalar/primary.cpp) and the
+// tests shade through here; the packet tracer (packet/packet.h) finds first
+// hits its own way, shades them four at once (packet/shade.h) and traces
+// each lane's secondary rays through trace_children() below.
 RT64K_HOT_ABI Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth,
                              float weight);
 // A secondary ray waiting for its turn (trace.cpp's trace_tree): where it

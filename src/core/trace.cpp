@@ -206,7 +206,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   if (Resume) {
     // Start at the root's first waiting child, as the loop's end would pop
     // it (the loop itself as without a root: a test in it for the root's
-    // case cost 0.5-0.9 % of a frame).
+    // case cost 0.5 % of a frame).
     // The first is read in place; a refracted ray after a reflected one
     // waits in its slot.
     waiting = root->waiting;

@@ -147,6 +147,7 @@ TEST(Shade4, PowLog2Exp2MatchTheScalarOnEdgeInputs) {
 // trace_primary4 of up to four pixels against trace_primary() of each.
 struct Counts {
   long lanes = 0, color = 0, path = 0, stats = 0, misses = 0, mixed = 0;
+  long backs = 0; // lanes whose primary ray hits a surface from behind (inside a solid)
 };
 
 void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const float* y, int n,
@@ -168,8 +169,14 @@ void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const 
     ref.shadow += ctx.stats.shadow;
     c.color += !same_bits(col, color[k]);
     c.path += !same_path(rec, path[k]);
-    int id = first_hit_object(s, primary_ray(cam, x[k], y[k]));
+    Ray ray = primary_ray(cam, x[k], y[k]);
+    Hit h;
+    int id = first_hit(s, ray, h);
     c.misses += id < 0;
+    if (id >= 0) {
+      hit_normal(s.objects[id].shape, ray, h);
+      c.backs += !h.front;
+    }
     if (k == 0) firstId = id;
     mixed |= id != firstId;
     ++c.lanes;
@@ -224,6 +231,56 @@ TEST(Shade4, PacketsOfMixedObjectsMissesAndSilhouettesMatchPerLane) {
   EXPECT_GT(silhouettes, 5000);
   EXPECT_GT(c.misses, 100); // lanes that see nothing
   EXPECT_GT(c.mixed, 1000); // packets whose lanes see different objects
+}
+
+// Cameras anywhere around (and inside) the objects of both scenes, at
+// fractional pixel positions: primary hits from inside a glass sphere or
+// cylinder (the root's `inside` and `exits` cases), from below the floor
+// and the stage, at every angle; packets of 1 to 4 lanes.
+TEST(Shade4, RandomCamerasAndFractionalPixelsMatchPerLane) {
+  std::mt19937 rng(31337);
+  std::uniform_real_distribution<float> tt(0.0f, 64.0f), pos(-6.0f, 6.0f);
+  std::uniform_real_distribution<float> px(0.0f, 63.0f), py(0.0f, 47.0f);
+  std::uniform_int_distribution<int> lanes(1, 4);
+  Counts c;
+  long insideCams = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    Scene s;
+    build_timeline_scene(s, tt(rng));
+    for (int cam = 0; cam < 8; ++cam) {
+      if (cam < 3) {
+        // Inside a sphere or cylinder of the scene: at its centre, off by a
+        // fraction of its size.
+        const Shape& sh = s.objects[(frame + cam) % s.numForeground].shape;
+        Vec3 centre = sh.kind == kSphere ? sh.a : sh.a + sh.b * (0.5f * sh.h);
+        float r = sh.kind == kSphere ? sh.r0 : 0.5f * sh.r0;
+        s.camera.pos = centre + v3(pos(rng), pos(rng), pos(rng)) * (0.1f * r);
+        s.camera.target = s.camera.pos + v3(pos(rng), pos(rng), pos(rng));
+        insideCams +=
+            first_hit_object(s, Ray{s.camera.pos, normalize(s.camera.target - s.camera.pos)}) >= 0;
+      } else {
+        s.camera.pos = v3(pos(rng), pos(rng) * 0.5f + 2.0f, pos(rng));
+        s.camera.target = v3(pos(rng) * 0.3f, 1.5f, pos(rng) * 0.3f);
+      }
+      CameraRays cr = camera_rays(s, 64, 48);
+      for (int p = 0; p < 40; ++p) {
+        float xs[4], ys[4];
+        for (int k = 0; k < 4; ++k) {
+          xs[k] = px(rng);
+          ys[k] = py(rng);
+        }
+        compare_lanes(s, cr, xs, ys, lanes(rng), c);
+      }
+    }
+  }
+  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
+  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
+  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  EXPECT_GT(c.lanes, 30000);
+  EXPECT_GT(insideCams, 100);
+  EXPECT_GT(c.backs, 5000); // primary hits from inside a solid
+  EXPECT_GT(c.misses, 100);
+  EXPECT_GT(c.mixed, 1000);
 }
 
 } // namespace

@@ -186,8 +186,8 @@ constexpr int kFindHit = -2;
 // weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
 // `root` holds its waiting children and its share of the sum. A template
 // argument, so that trace() and trace_hit() keep the loop without the
-// resume (intro.exe, which links no packet code, holds that copy only:
-// its bytes and instructions are main's; the native tool holds both).
+// resume (intro.exe, which links no packet code, holds that copy only;
+// the native tool holds both: docs/tracer-speed.md, round eleven).
 template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
                                      int depth, float weight, u32 skip, const RootNode* root) {

@@ -21,8 +21,9 @@
 
 // For the lanes k of `lanes` (bits; each id[k] >= 0), the primary ray from
 // org along unit (dir[0][k], dir[1][k], dir[2][k]) hitting object id[k] at
-// hit[k] (t, piece, local from the first-hit search; hit_normal() fills the
-// rest): color[k] = trace_hit(ctx, ray, id[k], hit[k], 1, 1). When `paths`
+// hit[k] (t, piece, local from the first-hit search): color[k] =
+// trace_hit(ctx, ray, id[k], hit[k], 1, 1). All four id[] are read (set
+// those outside `lanes` to anything, e.g. -1). When `paths`
 // is set, paths[k] (count 0 on entry) receives the lane's record. Rays are
 // counted in ctx.stats as trace_hit counts them. hit[k].normal and
 // hit[k].front are left unset for some lanes (their normals are computed in

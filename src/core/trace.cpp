@@ -48,31 +48,6 @@ __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& 
   return mask;
 }
 
-// Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
-// may meet object i (of those in `range`) before the light, judged by its
-// bound (conservative, as bound_mask). The segment is taken from the light's
-// end, whose terms the scene holds (Scene::lightFX..): along -L from the
-// light, beta = f.L is minus bound_mask's b; a miss when the line passes
-// beside (beta^2 < c), or the light is outside the bound (c > 0) and the
-// segment points away from it (beta < 0) or ends before it (beta - R >= dist).
-// Both groups, unrolled, as in bound_mask.
-u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist, u32 range) {
-  u32 mask = s.unboundedMask & range;
-  f4 lx = {L.x, L.x, L.x, L.x}, ly = {L.y, L.y, L.y, L.y}, lz = {L.z, L.z, L.z, L.z};
-  f4 tm = {dist, dist, dist, dist}, zero = {0, 0, 0, 0};
-#pragma GCC unroll 2
-  for (int g = 0; g < kMaxObjects; g += 4) {
-    f4 beta = *(const f4*)(s.lightFX[l] + g) * lx + *(const f4*)(s.lightFY[l] + g) * ly +
-              *(const f4*)(s.lightFZ[l] + g) * lz;
-    f4 c = *(const f4*)(s.lightC[l] + g);
-    auto miss = (beta * beta < c) |
-                ((c > zero) & ((beta < zero) | (beta - *(const f4*)(s.boundR + g) >= tm)));
-    u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
-    mask |= (m << g) & range;
-  }
-  return mask;
-}
-
 inline u32 range_mask(int begin, int end) {
   return (end >= 32 ? ~0u : (1u << end) - 1) & ~((1u << begin) - 1);
 }
@@ -100,14 +75,15 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // is the one the test would give.
 // The ray is the caller's (its origin set once for all lights of a shading
 // point, its direction L per light).
-Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int& code, u32 range,
-                   u32 exits) {
-  const Scene& s = *ctx.scene;
-  ++ctx.stats.shadow;
-  Vec3 L = ray.dir;
+// The objects of `mask` (what shadow_mask() left) in index order. Inlined
+// into trace_tree, as when it had no other caller; shadow_objects()
+// (trace.h) is its copy for the packet tracer's shading (packet/shade.cpp),
+// which intro.exe does not link (--gc-sections drops it).
+__attribute__((always_inline)) inline Vec3 shadow_test(const Scene& s, const Ray& ray, float dist,
+                                                       u32 mask, int& code, u32 exits) {
   Vec3 t = v3(1.0f);
   int crossed = 0;
-  for (u32 mask = shadow_mask(s, light, L, dist, range); mask; mask &= mask - 1) {
+  for (; mask; mask &= mask - 1) {
     int i = __builtin_ctz(mask);
     Hit hit;
     hit.t = dist;
@@ -122,6 +98,13 @@ Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int
   }
   code = crossed > 1 ? 2 : crossed;
   return t;
+}
+
+__attribute__((always_inline)) inline Vec3 shadow_ray(TraceContext& ctx, int light, const Ray& ray,
+                                                      float dist, int& code, u32 range, u32 exits) {
+  const Scene& s = *ctx.scene;
+  ++ctx.stats.shadow;
+  return shadow_test(s, ray, dist, shadow_mask(s, light, ray.dir, dist, range), code, exits);
 }
 
 // Cook-Torrance specular factor F D G / (N.V), the 1/(N.L) of the model
@@ -144,7 +127,8 @@ Vec3 transmittance(TraceContext& ctx, int light, const Ray& ray, float dist, int
 // bit for bit (negation is exact and round-to-nearest symmetric; a zero's
 // sign, which the two forms may give differently, is lost in the rt_max
 // with a positive floor), so the caller keeps no negated copy.
-float cook_torrance(const Material& m, Vec3 N, Vec3 I, Vec3 L) {
+__attribute__((always_inline)) inline float cook_torrance(const Material& m, Vec3 N, Vec3 I,
+                                                          Vec3 L) {
   Vec3 h = L - I;
   float nh = dot(N, h), m2 = m.roughness * m.roughness;
   if (!(nh > 0) || dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh)) return 0.0f;
@@ -173,21 +157,8 @@ float cook_torrance(const Material& m, Vec3 N, Vec3 I, Vec3 L) {
 
 Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
-// A secondary ray waiting for its turn (trace_hit): where it starts, its
-// weight and the objects it skips; its depth is its slot's (below).
-struct Pending {
-  Ray ray;
-  float weight;
-  u32 skip;
-  bool pastGlass; // it or a ray above it was refracted (kRecordWeightGlass)
-};
-
 // trace_tree's id of a ray whose nearest hit is still to be found.
 constexpr int kFindHit = -2;
-// A waiting ray's skip holds, from this bit, the index + 1 of the one object
-// the lone-solid shortcut tests first (0: none); the bits below are the
-// skipped objects (kMaxObjects = 8 of them).
-constexpr int kOnlyShift = 16;
 
 } // namespace
 
@@ -210,8 +181,16 @@ constexpr int kOnlyShift = 16;
 // scene (tests/test_raytree.cpp). One function for trace() and trace_hit(),
 // so that intro.exe holds one copy of the nearest-hit search (a second,
 // inlined into trace(), cost 430 packed bytes).
+//
+// Resume (trace_children()): the root (a primary ray's node, depth 1,
+// weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
+// `root` holds its waiting children and its share of the sum. A template
+// argument, so that trace() and trace_hit() keep the loop without the
+// resume (intro.exe, which links no packet code, holds that copy only;
+// the native tool holds both: docs/tracer-speed.md, round eleven).
+template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
-                                     int depth, float weight, u32 skip) {
+                                     int depth, float weight, u32 skip, const RootNode* root) {
   const Scene& s = *ctx.scene;
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
@@ -222,8 +201,26 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   // (read in place: its children go to the slots of the next depth).
   const Ray* cur = &first;
   Vec3 sum = v3(0.0f);
-  // What nearest() and transmittance() test, less the skipped objects.
+  // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
+  if (Resume) {
+    // Start at the root's first waiting child, as the loop's end would pop
+    // it (the loop itself as without a root: a test in it for the root's
+    // case cost 0.5 % of a frame).
+    // The first is read in place; a refracted ray after a reflected one
+    // waits in its slot.
+    waiting = root->waiting;
+    sum = root->sum;
+    int slot = 31 - __builtin_clz(waiting);
+    waiting ^= 1u << slot;
+    if (waiting) pending[kRootSlot] = root->child[0];
+    const Pending& next = root->child[slot - kRootSlot];
+    cur = &next.ray;
+    weight = next.weight;
+    depth = slot >> 1;
+    skip = next.skip;
+    pastGlass = next.pastGlass;
+  }
   for (;;) {
     const Ray& ray = *cur;
     if (id == kFindHit) {
@@ -360,7 +357,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
           if (recordable || weight * max_abs(lit) >= kShadowSkip) {
             bool exits = inside && s.lightC[li][id] > 0;
             shadow.dir = L;
-            through = transmittance(ctx, li, shadow, dist, code, shadowRange, exits ? self : 0);
+            through = shadow_ray(ctx, li, shadow, dist, code, shadowRange, exits ? self : 0);
           }
           bits = (u32)code;
           if (code != 3) {
@@ -390,11 +387,21 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
   // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
-  return trace_tree(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1));
+  return trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
+                           nullptr);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  return trace_tree(ctx, ray, id, hit, depth, weight, 0);
+  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
+}
+
+Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
+  return shadow_test(s, ray, dist, mask, code, exits);
+}
+
+Vec3 trace_children(TraceContext& ctx, const RootNode& root) {
+  Hit hit;
+  return trace_tree<true>(ctx, root.child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root);
 }
 
 int first_hit_object(const Scene& scene, const Ray& ray) {

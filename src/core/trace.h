@@ -94,10 +94,78 @@ constexpr float kSpecExp = 16.0f;
 // trace() is its nearest-hit search (first_hit()) followed by trace_hit():
 // with `id` and `hit` (t, piece, local) as first_hit() gave them for `ray`,
 // it records the ray, shades the hit and casts the secondary rays, exactly
-// as trace() would. The packet tracer (packet/packet.h) finds first hits its
-// own way and shades each lane through here.
+// as trace() would. The scalar primary tracer (scalar/primary.cpp) and the
+// tests shade through here; the packet tracer (packet/packet.h) finds first
+// hits its own way, shades them four at once (packet/shade.h) and traces
+// each lane's secondary rays through trace_children() below.
 RT64K_HOT_ABI Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth,
                              float weight);
+// A secondary ray waiting for its turn (trace.cpp's trace_tree): where it
+// starts, its weight and the objects it skips; its depth is its slot's (the
+// slots of depth d: 2 d + 1 for the reflected ray, 2 d for the refracted).
+struct Pending {
+  Ray ray;
+  float weight;
+  u32 skip;
+  bool pastGlass; // it or a ray above it was refracted (kRecordWeightGlass)
+};
+// A waiting ray's skip holds, from this bit, the index + 1 of the one object
+// the lone-solid shortcut tests first (0: none); the bits below are the
+// skipped objects (kMaxObjects = 8 of them).
+constexpr int kOnlyShift = 16;
+// The slots of a primary ray's children (depth 2): kRootSlot the refracted
+// ray, kRootSlot + 1 the reflected one.
+constexpr int kRootSlot = 4;
+// A primary ray's node (depth 1, weight 1) shaded by the caller, exactly as
+// trace_hit() would have: its children (child[0] in slot kRootSlot, child[1]
+// in kRootSlot + 1, each valid where its bit 1 << slot is set in `waiting`)
+// and the root's share of the sum, v3(0) + colour * 1 (packet/shade.h).
+struct RootNode {
+  Pending child[2];
+  u32 waiting;
+  Vec3 sum;
+};
+// trace_hit() of a primary ray from after its root node: the children's
+// subtrees traced (appending their nodes to *ctx.record) and added to
+// root.sum in trace_hit's order; the pixel's colour, bit for bit trace_hit's.
+RT64K_HOT_ABI Vec3 trace_children(TraceContext& ctx, const RootNode& root);
+// Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
+// may meet object i (of those in `range`) before the light, judged by its
+// bound (conservative, as bound_mask). The segment is taken from the light's
+// end, whose terms the scene holds (Scene::lightFX..): along -L from the
+// light, beta = f.L is minus bound_mask's b; a miss when the line passes
+// beside (beta^2 < c), or the light is outside the bound (c > 0) and the
+// segment points away from it (beta < 0) or ends before it (beta - R >= dist).
+// Both groups, unrolled, as in trace.cpp's bound_mask. Inline: trace.cpp's
+// shadow rays and the packet tracer's (packet/shade.cpp) each hold a copy.
+__attribute__((always_inline)) inline u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist,
+                                                      u32 range) {
+  typedef float v4 __attribute__((vector_size(16)));
+  u32 mask = s.unboundedMask & range;
+  v4 lx = {L.x, L.x, L.x, L.x}, ly = {L.y, L.y, L.y, L.y}, lz = {L.z, L.z, L.z, L.z};
+  v4 tm = {dist, dist, dist, dist}, zero = {0, 0, 0, 0};
+#pragma GCC unroll 2
+  for (int g = 0; g < kMaxObjects; g += 4) {
+    v4 beta = *(const v4*)(s.lightFX[l] + g) * lx + *(const v4*)(s.lightFY[l] + g) * ly +
+              *(const v4*)(s.lightFZ[l] + g) * lz;
+    v4 c = *(const v4*)(s.lightC[l] + g);
+    auto miss = (beta * beta < c) |
+                ((c > zero) & ((beta < zero) | (beta - *(const v4*)(s.boundR + g) >= tm)));
+    u32 m = ~(u32)__builtin_ia32_movmskps((v4)miss) & 15u;
+    mask |= (m << g) & range;
+  }
+  return mask;
+}
+
+// The end of trace_hit's shadow ray from ray.org along unit ray.dir to a
+// light at distance `dist`, after its bound test (trace.cpp's shadow_mask)
+// left the objects of `mask`: its transmittance and shadow code (0 lit, 1
+// behind one transparent object, 2 behind several, 3 blocked), crossing the
+// objects of `exits` untested (the ray starts inside them). The caller
+// counts the ray.
+RT64K_HOT_ABI Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code,
+                                  u32 exits);
+
 // trace_hit() of a ray that hits nothing (id < 0), inline: its node (0) in
 // the record and the background, without trace_hit's frame set-up (~20
 // instructions a miss).

@@ -14,6 +14,7 @@
 #include "packet/packet.h"
 
 #include "packet/lanes.h"
+#include "packet/shade.h"
 
 namespace {
 
@@ -307,18 +308,24 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
   Nearest st;
   nearest_lanes(scene, cam.terms, d, live, st);
   TraceContext ctx{&scene, {0, 0, 0}, nullptr};
+  // The misses here; the hits' shading points in lanes (packet/shade.h).
+  int id[4] = {-1, -1, -1, -1};
+  Hit hit[4];
+  u32 hits = 0;
   for (u32 m = live; m; m &= m - 1) {
-    int k = __builtin_ctz(m), id;
-    Hit hit;
-    lane_hit(st, k, id, hit);
+    int k = __builtin_ctz(m);
+    lane_hit(st, k, id[k], hit[k]);
     if (paths) {
       paths[k].count = 0;
       ctx.record = &paths[k];
     }
     ++ctx.stats.primary;
-    color[k] = id < 0 ? trace_miss(ctx, 1, 1.0f)
-                      : trace_hit(ctx, Ray{cam.org, d.lane(k)}, id, hit, 1, 1.0f);
+    if (id[k] >= 0)
+      hits |= 1u << k;
+    else
+      color[k] = trace_miss(ctx, 1, 1.0f);
   }
+  if (hits) shade_primary4(ctx, cam.org, d.v, id, hit, hits, paths, color);
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
   stats->shadow += ctx.stats.shadow;

@@ -10,8 +10,10 @@
 // tests start from the per-frame terms (packet/primary.h), and a packet
 // tests the bounds, spheres, planes and triangles for four rays in one SSE2
 // pass; cylinders and cones (and the rare triangle edge cases) are tested
-// per lane by the scalar intersect_t(). Shading and all secondary and
-// shadow rays are the scalar trace_hit() per lane.
+// per lane by the scalar intersect_t(). The primary hits are shaded in
+// lanes too (packet/shade.h: the same float operations per lane as
+// trace_hit's); the secondary rays of each lane, and the shadow rays' object
+// tests, are the scalar tracer's.
 #pragma once
 #include "abi.h"
 #include "trace.h"

@@ -1,0 +1,349 @@
+// shade.cpp - four primary shading points at once; the contract is in
+// shade.h. Every expression below repeats trace_tree's (trace.cpp) for the
+// root node (depth 1, weight 1, nothing passed through glass yet), lane by
+// lane, in the same order: where trace_tree multiplies by the weight 1 or
+// adds to a sum of 0, so does this code, so that no rounding differs.
+#include "packet/shade.h"
+
+#include "packet/pow4.h"
+
+namespace {
+
+// Three float lanes: a Vec3 in each of four lanes.
+struct V4 {
+  f4 x, y, z;
+};
+inline V4 operator+(V4 a, V4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V4 operator-(V4 a, V4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V4 operator*(V4 a, f4 s) { return {a.x * s, a.y * s, a.z * s}; }
+inline V4 operator*(V4 a, V4 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline f4 dot(V4 a, V4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V4 splat(Vec3 v) { return {f4_of(v.x), f4_of(v.y), f4_of(v.z)}; }
+inline f4 max4(f4 a, f4 b) { return a > b ? a : b; } // rt_max
+inline Vec3 lane(V4 v, int k) { return Vec3{v.x[k], v.y[k], v.z[k]}; }
+inline V4 select(i4 m, V4 a, V4 b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+
+// leaves_for_good_dot() (shapes.h) with the hit's front side given.
+inline bool leaves(const Shape& sh, bool front, float d) {
+  if (sh.kind == kPlane || sh.kind == kTriangle) return true;
+  return front ? d > 0 : d < 0;
+}
+
+// Four floats from p, unaligned.
+inline f4 load4(const float* p) {
+  f4 r;
+  __builtin_memcpy(&r, p, 16);
+  return r;
+}
+
+// The rows r[k] (four floats from row pointer k) as columns: out[c][k] = r[k][c].
+inline void columns(const float* const r[4], f4 out[4]) {
+  f4 a = load4(r[0]), b = load4(r[1]), c = load4(r[2]), d = load4(r[3]);
+  f4 ab0 = __builtin_ia32_unpcklps(a, b), cd0 = __builtin_ia32_unpcklps(c, d);
+  f4 ab1 = __builtin_ia32_unpckhps(a, b), cd1 = __builtin_ia32_unpckhps(c, d);
+  out[0] = __builtin_ia32_movlhps(ab0, cd0);
+  out[1] = __builtin_ia32_movhlps(cd0, ab0);
+  out[2] = __builtin_ia32_movlhps(ab1, cd1);
+  out[3] = __builtin_ia32_movhlps(cd1, ab1);
+}
+
+// A V4 stored lane by lane: v[c][k] is component c of lane k.
+struct Lanes3 {
+  alignas(16) float v[3][4];
+  void set(V4 a) {
+    *(f4*)v[0] = a.x;
+    *(f4*)v[1] = a.y;
+    *(f4*)v[2] = a.z;
+  }
+  Vec3 lane(int k) const { return Vec3{v[0][k], v[1][k], v[2][k]}; }
+};
+
+// Phong's specular term where the kSpecExp cut leaves it, r_S (V.R)^h: out
+// of line, as few lanes need it (its double lanes would make the caller
+// align its frame to 32 bytes).
+__attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 cut) {
+  return cut ? f4_of(0.0f) : specular * rt_pow4(VdotR, shininess);
+}
+
+// cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
+// kSpecExp test cuts it (or N.h <= 0). I is the incident direction.
+__attribute__((noinline)) f4 cook_torrance4(V4 N, V4 I, V4 L, f4 roughness, f4 f0) {
+  f4 zero = f4_of(0.0f), one = f4_of(1.0f);
+  V4 h = L - I;
+  f4 nh = dot(N, h), m2 = roughness * roughness;
+  i4 cut = ~(nh > zero) | (dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh));
+  if (!(~lane_bits(cut) & 15)) return zero;
+  f4 hh = dot(h, h);
+  V4 H = select(hh > f4_of(1e-30f), h * (1.0f / lane_sqrt(hh)), N); // normalize(h, N)
+  f4 nH = dot(N, H);
+  f4 NdotH = nH < zero ? zero : (nH > one ? one : nH); // rt_clamp(., 0, 1)
+  f4 NdotV = max4(-dot(N, I), f4_of(kCosEps));
+  f4 NdotL = max4(dot(N, L), zero);
+  f4 VdotH = max4(-dot(I, H), 0.5f * (NdotV + NdotL));
+  f4 x = 1.0f - VdotH, x2 = x * x;
+  f4 F = f0 + x2 * x2 * x * (1.0f - f0);
+  f4 mn = NdotV < NdotL ? NdotV : NdotL;
+  f4 g = 2.0f * NdotH * mn / VdotH;
+  f4 G = one < g ? one : g; // rt_min(1, g)
+  f4 c2 = NdotH * NdotH;
+  f4 D = rt_exp_nonpositive4((c2 - 1.0f) / (c2 * m2)) / (kPi * m2 * c2 * c2);
+  D = c2 > f4_of(kCos2Min) ? D : zero;
+  f4 r = F * D * G / NdotV;
+  return cut ? zero : r;
+}
+
+} // namespace
+
+void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4], Hit hit[4],
+                    u32 lanes, PathRecord* paths, Vec3 color[4]) {
+  const Scene& s = *ctx.scene;
+  V4 D = {dir[0], dir[1], dir[2]};
+  int first = __builtin_ctz(lanes);
+  const Object* obj[4];
+  alignas(16) i32 frontOf[4];
+  u32 range[4], inside = 0;
+  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
+  V4 mc, N;
+  f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior, roughness, f0;
+  i4 front;
+  const Object& o0 = s.objects[id[first]];
+  i4 ids;
+  __builtin_memcpy(&ids, id, 16); // lanes outside `lanes` do not count
+  ShapeKind kind0 = o0.shape.kind;
+  bool uniform = (kind0 == kSphere || kind0 == kPlane || kind0 == kTriangle) &&
+                 (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
+  if (uniform) {
+    // Every lane sees one sphere, plane or triangle (most calls): the material in
+    // every lane, and hit_normal() (shapes.cpp) in lanes: sphere_outward()
+    // where |m|^2 lies in [r^2 / 4, 4 r^2], then face(); plane_normal().
+    // The other lanes (a sphere's band) through the scalar hit_normal().
+    const Material& mt = o0.mat;
+    mc = splat(mt.color);
+    diffuse = f4_of(mt.diffuse);
+    specular = f4_of(mt.specular);
+    shininess = f4_of(mt.shininess);
+    reflect = f4_of(mt.reflect);
+    transmit = f4_of(mt.transmit);
+    ior = f4_of(mt.ior);
+    roughness = f4_of(mt.roughness);
+    f0 = f4_of(mt.f0);
+    size = f4_of(o0.shape.size);
+    i4 piece;
+    for (int k = 0; k < 4; ++k) {
+      int src = lanes >> k & 1 ? k : first;
+      obj[k] = &o0;
+      T4[k] = hit[src].t;
+      piece[k] = hit[src].piece;
+    }
+    const Shape& sh = o0.shape;
+    V4 A = splat(sh.a);
+    u32 self = 1u << id[first];
+    if (kind0 == kPlane) {
+      front = piece != i4_of(0);
+      N = select(front, A, V4{-A.x, -A.y, -A.z});
+    } else if (kind0 == kTriangle) {
+      V4 out = splat(Vec3{sh.r0, sh.r1, sh.h}); // normalize(n), stored
+      front = dot(out, D) < f4_of(0.0f);
+      N = select(front, out, V4{-out.x, -out.y, -out.z});
+    } else {
+      V4 m = (splat(org) - A) + D * T4;
+      f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
+      u32 ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
+      V4 out = m * (1.0f / lane_sqrt(len2));
+      front = dot(out, D) < f4_of(0.0f);
+      N = select(front, out, V4{-out.x, -out.y, -out.z});
+      for (u32 q = lanes & ~ok; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        hit_normal(sh, Ray{org, Vec3{D.x[k], D.y[k], D.z[k]}}, hit[k]);
+        N.x[k] = hit[k].normal.x;
+        N.y[k] = hit[k].normal.y;
+        N.z[k] = hit[k].normal.z;
+        front[k] = -(i32)hit[k].front;
+      }
+    }
+    *(i4*)frontOf = front;
+    for (int k = 0; k < 4; ++k) {
+      bool f = frontOf[k] != 0 || kind0 != kSphere;
+      range[k] = f ? foreground & ~self : foreground;
+      inside |= (u32)!f << k; // a sphere is closed and convex
+    }
+  } else {
+    Lanes3 dirs;
+    dirs.set(D);
+    for (u32 q = lanes; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
+    }
+    // Each lane's object, material and hit as columns (the lanes outside
+    // `lanes` repeat the first lane's, so that every lane computes with
+    // finite numbers).
+    const float *rowC[4], *rowS[4], *rowI[4], *rowH[4];
+    for (int k = 0; k < 4; ++k) {
+      int src = lanes >> k & 1 ? k : first;
+      const Object* o = obj[k] = &s.objects[id[src]];
+      rowC[k] = &o->mat.color.x;  // color, diffuse
+      rowS[k] = &o->mat.specular; // specular, shininess, reflect, transmit
+      rowI[k] = &o->mat.transmit; // transmit, ior, roughness, f0
+      rowH[k] = &hit[src].t;      // t, normal
+      size[k] = o->shape.size;
+      frontOf[k] = -(i32)hit[src].front;
+      // What the shadow rays test (trace_tree's shadowRange and `inside`).
+      const Shape& sh = o->shape;
+      bool flat = sh.kind == kPlane || sh.kind == kTriangle;
+      range[k] = flat || hit[src].front ? foreground & ~(1u << id[src]) : foreground;
+      inside |= (u32)(!hit[src].front && closed_convex(sh)) << k;
+    }
+    f4 c[4], sp[4], gl[4], h[4];
+    columns(rowC, c);
+    columns(rowS, sp);
+    columns(rowI, gl);
+    columns(rowH, h);
+    mc = V4{c[0], c[1], c[2]};
+    N = V4{h[1], h[2], h[3]};
+    T4 = h[0];
+    diffuse = c[3];
+    specular = sp[0];
+    shininess = sp[1];
+    reflect = sp[2];
+    transmit = sp[3];
+    ior = gl[1];
+    roughness = gl[2];
+    f0 = gl[3];
+    front = *(i4*)frontOf;
+  }
+  f4 zero = f4_of(0.0f), one = f4_of(1.0f);
+  i4 live = lanes_of(lanes);
+  V4 p = splat(org) + D * T4;
+  V4 col = splat(s.ambient) * mc;
+  f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
+  alignas(16) float off[4];
+  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (size + T4); // spawn_offset
+  V4 lightOrg = p + N * *(f4*)off;
+
+  RootNode root[4];
+  u32 waiting[4] = {0, 0, 0, 0};
+  int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
+  if (1 < maxDepth) {
+    // Snell where the material transmits; the mirror ray everywhere.
+    i4 glass = transmit > zero;
+    f4 eta = glass ? (front ? 1.0f / ior : ior) : one;
+    V4 negD = {-D.x, -D.y, -D.z};
+    f4 cosI = glass ? dot(N, negD) : one;
+    f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
+    i4 tir = glass & (sin2T > one);
+    alignas(16) float fR[4], dR[4], dT[4];
+    *(f4*)fR = reflect + (tir ? transmit : zero);
+    u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
+    u32 castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
+    V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
+    *(f4*)dR = dot(R, N);
+    Lanes3 dirR, orgR, dirT, orgT;
+    dirR.set(R);
+    orgR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off));
+    if (castT) {
+      V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
+      f4 len2 = dot(a, a);
+      V4 T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
+      *(f4*)dT = dot(T, N);
+      dirT.set(T);
+      orgT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off));
+    }
+    for (u32 q = castR | castT; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      const Shape& sh = obj[k]->shape;
+      u32 self = 1u << id[k];
+      u32 only = (s.aloneMask & self) && off[k] <= 0.5f * kAloneSlack * sh.size
+                     ? (u32)(id[k] + 1) << kOnlyShift
+                     : 0;
+      if (castR >> k & 1) {
+        u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
+        root[k].child[1] = Pending{Ray{orgR.lane(k), dirR.lane(k)}, 1.0f * fR[k], skip, false};
+        waiting[k] |= 1u << (kRootSlot + 1);
+        ++ctx.stats.secondary;
+      }
+      if (castT >> k & 1) {
+        u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
+        root[k].child[0] =
+            Pending{Ray{orgT.lane(k), dirT.lane(k)}, 1.0f * obj[k]->mat.transmit, skip, true};
+        waiting[k] |= 1u << kRootSlot;
+        ++ctx.stats.secondary;
+      }
+    }
+  }
+
+  // The lights: the terms in lanes, each lane's shadow ray through the
+  // scalar transmittance() (a primary ray records: every lit term casts one).
+  u32 bits[4] = {0, 0, 0, 0};
+  Lanes3 lo;
+  lo.set(lightOrg);
+  for (int li = 0; li < s.numLights; ++li) {
+    const Light& light = s.lights[li];
+    V4 toLight = splat(light.pos) - lightOrg;
+    alignas(16) float dist[4];
+    *(f4*)dist = lane_sqrt(dot(toLight, toLight));
+    V4 L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
+    f4 NdotL = dot(N, L);
+    u32 lit = lane_bits((NdotL > zero) & live);
+    if (!lit) continue;
+    // The light's term unshadowed (trace_tree's `lit`).
+    f4 spec = zero;
+    V4 term;
+    if (s.model == kPhong) {
+      // V.R = -(I.R), R = N (2 N.L) - L.
+      f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
+      i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+      if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
+      term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+    } else {
+      spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
+      term = mc * (diffuse * NdotL + spec) * splat(light.color);
+    }
+    Lanes3 dirL, through;
+    dirL.set(L);
+    through.set(V4{one, one, one});
+    u32 shadowed = 0;
+    ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
+    for (u32 q = lit; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      Vec3 Lk = dirL.lane(k);
+      u32 objects = shadow_mask(s, li, Lk, dist[k], range[k]);
+      if (!objects) continue; // lit: code 0, through 1
+      u32 self = 1u << id[k];
+      bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
+      int code = 0;
+      Vec3 tr = shadow_objects(s, Ray{lo.lane(k), Lk}, dist[k], objects, code, exits ? self : 0);
+      through.v[0][k] = tr.x;
+      through.v[1][k] = tr.y;
+      through.v[2][k] = tr.z;
+      shadowed |= (u32)(code == 3) << k;
+      bits[k] |= (u32)code << (5 + 3 * li);
+    }
+    i4 add = lanes_of(lit & ~shadowed);
+    V4 tv = {*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+    col = select(add, col + term * tv, col);
+    if (paths) {
+      u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
+      for (; high; high &= high - 1)
+        bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+    }
+  }
+  Lanes3 sum;
+  sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight
+
+  for (u32 m = lanes; m; m &= m - 1) {
+    int k = __builtin_ctz(m);
+    if (paths) {
+      PathRecord& rec = paths[k];
+      rec.node[0] = (u32)(id[k] + 1) | bits[k];
+      rec.count = 1;
+      ctx.record = &rec;
+    }
+    if (waiting[k]) {
+      root[k].waiting = waiting[k];
+      root[k].sum = sum.lane(k);
+      color[k] = trace_children(ctx, root[k]);
+    } else {
+      color[k] = sum.lane(k) * 1.0f; // sum * (1 / rootWeight)
+    }
+  }
+}

@@ -1,0 +1,286 @@
+// test_shade4.cpp - the four-lane shading point (packet/shade.h) and its
+// maths (packet/pow4.h) against the scalar code, bit for bit.
+//
+// rt_pow4, rt_log2_4, rt_exp2_4 and rt_exp_nonpositive4 against rt_pow,
+// rt_log2, rt_exp2 and rt_exp_nonpositive over
+// millions of seeded inputs and the edge cases (zeros of both signs,
+// denormals, 1, NaN, Inf, the range ends of exp2, the kSpecExp cut of
+// Phong's power, exp's underflow); trace_primary4() against trace_primary() per lane (colour
+// bits, records, ray counts) on packets of 1 to 4 pixels that mix objects,
+// misses and silhouette pixels (grazing rays) over frames of both scenes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "packet/packet.h"
+#include "packet/pow4.h"
+#include "scenes.h"
+
+namespace {
+
+bool same_bits(float a, float b) { return rt_bits(a) == rt_bits(b); }
+bool same_bits(Vec3 a, Vec3 b) {
+  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
+}
+
+// Counts of lanes of the three functions that differ from the scalar.
+struct PowMismatch {
+  long log2 = 0, exp2 = 0, pow = 0, lanes = 0;
+};
+
+void compare4(const float x[4], const float y[4], PowMismatch& m) {
+  f4 x4 = {x[0], x[1], x[2], x[3]}, y4 = {y[0], y[1], y[2], y[3]};
+  f4 l = rt_log2_4(x4), e = rt_exp2_4(y4), p = rt_pow4(x4, y4);
+  for (int k = 0; k < 4; ++k) {
+    m.log2 += !same_bits(l[k], rt_log2(x[k]));
+    m.exp2 += !same_bits(e[k], rt_exp2(y[k]));
+    m.pow += !same_bits(p[k], rt_pow(x[k], y[k]));
+    ++m.lanes;
+  }
+}
+
+TEST(Shade4, PowLog2Exp2MatchTheScalarBitForBitOnSeededInputs) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f), expo(1.0f, 400.0f);
+  std::uniform_real_distribution<float> wide(-140.0f, 140.0f);
+  std::uniform_int_distribution<u32> bits(0, 0xffffffffu);
+  PowMismatch m;
+  for (int i = 0; i < 1000000; ++i) {
+    float x[4], y[4];
+    for (int k = 0; k < 4; ++k) {
+      switch ((i + k) % 4) {
+      case 0: // Phong's V.R and exponent
+        x[k] = unit(rng);
+        y[k] = expo(rng);
+        break;
+      case 1: // V.R near 1, where the power is computed
+        x[k] = 1.0f - unit(rng) * 0.05f;
+        y[k] = expo(rng);
+        break;
+      case 2: // any float bits (NaN, Inf, denormals, negatives)
+        x[k] = rt_from_bits(bits(rng));
+        y[k] = rt_from_bits(bits(rng));
+        break;
+      default: // exp2 across its range and beyond
+        x[k] = unit(rng) * 1e3f;
+        y[k] = wide(rng);
+        break;
+      }
+    }
+    compare4(x, y, m);
+  }
+  EXPECT_EQ(m.log2, 0);
+  EXPECT_EQ(m.exp2, 0);
+  EXPECT_EQ(m.pow, 0);
+  EXPECT_EQ(m.lanes, 4000000);
+}
+
+// Cook-Torrance's D: rt_exp_nonpositive() of x <= 0 (and of anything
+// else, whose lanes must match too), seeded and at the edges.
+TEST(Shade4, ExpNonpositiveMatchesTheScalarBitForBit) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> neg(-100.0f, 0.0f), small(-1.0f, 0.0f);
+  std::uniform_int_distribution<u32> bits(0, 0xffffffffu);
+  const float inf = rt_from_bits(0x7f800000u), nan = rt_from_bits(0x7fc00000u);
+  const float edges[] = {0.0f,     -0.0f,     -1e-45f,  -1e-38f,  -87.3365f, -87.33655f,
+                         -87.336f, -87.34f,   -88.0f,   -1e9f,    -inf,      nan,
+                         -0.5f,    -0.34657f, -0.3466f, -0.6931f, -1.0f,     -16.0f};
+  long differ = 0, lanes = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    f4 x;
+    for (int k = 0; k < 4; ++k) {
+      int r = (i + k) % 8;
+      x[k] = r < 4 ? neg(rng)
+                   : (r < 6 ? small(rng)
+                            : (r < 7 ? rt_from_bits(bits(rng)) : edges[(i / 8 + k) % 18]));
+    }
+    f4 e = rt_exp_nonpositive4(x);
+    for (int k = 0; k < 4; ++k) {
+      differ += !same_bits(e[k], rt_exp_nonpositive(x[k]));
+      ++lanes;
+    }
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(lanes, 4000000);
+}
+
+TEST(Shade4, PowLog2Exp2MatchTheScalarOnEdgeInputs) {
+  const float inf = rt_from_bits(0x7f800000u), nan = rt_from_bits(0x7fc00000u);
+  std::vector<float> xs = {
+      0.0f,          -0.0f,      1e-45f,      -1e-45f,    1.17549435e-38f, 1.1754942e-38f, 1.0f,
+      0.99999994f,   1.0000001f, 1.41421356f, 1.4142135f, 1.4142137f,      0.5f,           2.0f,
+      3.4028235e38f, inf,        -inf,        nan,        -1.0f,           0.9f,           0.92f,
+      0.95f,         0.98f,      0.999f,      1e-20f};
+  std::vector<float> ys = {0.0f,    -0.0f,   1.0f,   40.0f,  60.0f,  120.0f,  200.0f, -126.0f,
+                           -125.5f, -126.5f, 127.0f, 127.5f, 128.0f, -1e9f,   1e9f,   inf,
+                           -inf,    nan,     0.5f,   -0.5f,  1e-45f, -1e-45f, 1.5f,   -1.5f};
+  // The kSpecExp cut: h (1 - V.R) = 16 at V.R = 1 - 16 / h, and a few ulps
+  // either side, for the scenes' exponents.
+  for (float h : {40.0f, 60.0f, 120.0f, 200.0f}) {
+    float v = 1.0f - kSpecExp / h;
+    for (int s = -3; s <= 3; ++s) {
+      float w = v;
+      for (int i = 0; i < (s < 0 ? -s : s); ++i)
+        w = std::nextafter(w, s < 0 ? 0.0f : 2.0f);
+      xs.push_back(w);
+    }
+    ys.push_back(h);
+  }
+  PowMismatch m;
+  for (size_t i = 0; i < xs.size(); ++i)
+    for (size_t j = 0; j < ys.size(); j += 4) {
+      float x[4], y[4];
+      for (int k = 0; k < 4; ++k) {
+        x[k] = xs[(i + k) % xs.size()];
+        y[k] = ys[(j + k) % ys.size()];
+      }
+      compare4(x, y, m);
+    }
+  EXPECT_EQ(m.log2, 0);
+  EXPECT_EQ(m.exp2, 0);
+  EXPECT_EQ(m.pow, 0);
+  EXPECT_GT(m.lanes, 1000);
+}
+
+// trace_primary4 of up to four pixels against trace_primary() of each.
+struct Counts {
+  long lanes = 0, color = 0, path = 0, stats = 0, misses = 0, mixed = 0;
+  long backs = 0; // lanes whose primary ray hits a surface from behind (inside a solid)
+};
+
+void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const float* y, int n,
+                   Counts& c) {
+  Vec3 color[4];
+  PathRecord path[4];
+  RayStats stats{0, 0, 0};
+  trace_primary4(s, cam, x, y, n, color, path, &stats);
+  RayStats ref{0, 0, 0};
+  int firstId = -2;
+  bool mixed = false;
+  for (int k = 0; k < n; ++k) {
+    PathRecord rec;
+    rec.count = 0;
+    TraceContext ctx{&s, {0, 0, 0}, &rec};
+    Vec3 col = trace_primary(ctx, cam, x[k], y[k]);
+    ref.primary += 1;
+    ref.secondary += ctx.stats.secondary;
+    ref.shadow += ctx.stats.shadow;
+    c.color += !same_bits(col, color[k]);
+    c.path += !same_path(rec, path[k]);
+    Ray ray = primary_ray(cam, x[k], y[k]);
+    Hit h;
+    int id = first_hit(s, ray, h);
+    c.misses += id < 0;
+    if (id >= 0) {
+      hit_normal(s.objects[id].shape, ray, h);
+      c.backs += !h.front;
+    }
+    if (k == 0) firstId = id;
+    mixed |= id != firstId;
+    ++c.lanes;
+  }
+  c.mixed += mixed;
+  c.stats += stats.primary != ref.primary || stats.secondary != ref.secondary ||
+             stats.shadow != ref.shadow;
+}
+
+TEST(Shade4, PacketsOfMixedObjectsMissesAndSilhouettesMatchPerLane) {
+  std::mt19937 rng(1414);
+  std::uniform_real_distribution<float> t1(0.0f, 32.0f), t2(32.0f, 64.0f);
+  std::uniform_int_distribution<int> lanes(1, 4);
+  const int w = 160, h = 120;
+  Counts c;
+  long silhouettes = 0;
+  for (int frame = 0; frame < 24; ++frame) {
+    Scene s;
+    build_timeline_scene(s, frame < 12 ? t1(rng) : t2(rng)); // Phong, then Cook-Torrance
+    CameraRays cam = camera_rays(s, w, h);
+    std::vector<int> ids(w * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        ids[y * w + x] = first_hit_object(s, primary_ray(cam, (float)x, (float)y));
+    // Pixels on an object's silhouette (a neighbour sees another object or
+    // nothing): grazing rays, and packets across the edge.
+    std::vector<int> edge;
+    for (int y = 1; y + 1 < h; ++y)
+      for (int x = 1; x + 1 < w; ++x) {
+        int i = ids[y * w + x];
+        if (i != ids[y * w + x + 1] || i != ids[(y + 1) * w + x] || i != ids[y * w + x - 1])
+          edge.push_back(y * w + x);
+      }
+    silhouettes += (long)edge.size();
+    std::uniform_int_distribution<int> anyPx(0, w * h - 1);
+    for (size_t e = 0; e < edge.size(); e += 3) {
+      int n = lanes(rng);
+      float xs[4], ys[4];
+      for (int k = 0; k < n; ++k) {
+        // Edge pixels, their right neighbours and random ones, mixed.
+        int p = k == 0 ? edge[e] : (k == 1 ? edge[e] + 1 : anyPx(rng));
+        xs[k] = (float)(p % w);
+        ys[k] = (float)(p / w);
+      }
+      compare_lanes(s, cam, xs, ys, n, c);
+    }
+  }
+  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
+  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
+  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  EXPECT_GT(c.lanes, 10000);
+  EXPECT_GT(silhouettes, 5000);
+  EXPECT_GT(c.misses, 100); // lanes that see nothing
+  EXPECT_GT(c.mixed, 1000); // packets whose lanes see different objects
+}
+
+// Cameras anywhere around (and inside) the objects of both scenes, at
+// fractional pixel positions: primary hits from inside a glass sphere or
+// cylinder (the root's `inside` and `exits` cases), from below the floor
+// and the stage, at every angle; packets of 1 to 4 lanes.
+TEST(Shade4, RandomCamerasAndFractionalPixelsMatchPerLane) {
+  std::mt19937 rng(31337);
+  std::uniform_real_distribution<float> tt(0.0f, 64.0f), pos(-6.0f, 6.0f);
+  std::uniform_real_distribution<float> px(0.0f, 63.0f), py(0.0f, 47.0f);
+  std::uniform_int_distribution<int> lanes(1, 4);
+  Counts c;
+  long insideCams = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    Scene s;
+    build_timeline_scene(s, tt(rng));
+    for (int cam = 0; cam < 8; ++cam) {
+      if (cam < 3) {
+        // Inside a sphere or cylinder of the scene: at its centre, off by a
+        // fraction of its size.
+        const Shape& sh = s.objects[(frame + cam) % s.numForeground].shape;
+        Vec3 centre = sh.kind == kSphere ? sh.a : sh.a + sh.b * (0.5f * sh.h);
+        float r = sh.kind == kSphere ? sh.r0 : 0.5f * sh.r0;
+        s.camera.pos = centre + v3(pos(rng), pos(rng), pos(rng)) * (0.1f * r);
+        s.camera.target = s.camera.pos + v3(pos(rng), pos(rng), pos(rng));
+        insideCams +=
+            first_hit_object(s, Ray{s.camera.pos, normalize(s.camera.target - s.camera.pos)}) >= 0;
+      } else {
+        s.camera.pos = v3(pos(rng), pos(rng) * 0.5f + 2.0f, pos(rng));
+        s.camera.target = v3(pos(rng) * 0.3f, 1.5f, pos(rng) * 0.3f);
+      }
+      CameraRays cr = camera_rays(s, 64, 48);
+      for (int p = 0; p < 40; ++p) {
+        float xs[4], ys[4];
+        for (int k = 0; k < 4; ++k) {
+          xs[k] = px(rng);
+          ys[k] = py(rng);
+        }
+        compare_lanes(s, cr, xs, ys, lanes(rng), c);
+      }
+    }
+  }
+  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
+  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
+  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  EXPECT_GT(c.lanes, 30000);
+  EXPECT_GT(insideCams, 100);
+  EXPECT_GT(c.backs, 5000); // primary hits from inside a solid
+  EXPECT_GT(c.misses, 100);
+  EXPECT_GT(c.mixed, 1000);
+}
+
+} // namespace

@@ -6,11 +6,12 @@
 // hit_triangle) or trace.cpp (bound_mask, nearest) for four rays, with the
 // same operations in the same order, the origin terms coming from
 // PrimaryTerms (computed by the same expressions), and per lane the same
-// accept/reject decisions. Every case the kernels do not mirror goes to the
-// scalar intersect_t() for that lane: cylinders and cones always, a
-// triangle when the four rays do not share the watertight test's axis
-// order, or when one of its edge functions is exactly 0 (the test's
-// recomputation in double).
+// accept/reject decisions; cylinders and cones likewise in frustum.cpp.
+// Every case the kernels do not mirror goes to the scalar intersect_t() for
+// that lane: a frustum's lanes within 45 deg of its axis and flat-sided
+// frustums (frustum.h), a triangle when the four rays do not share the
+// watertight test's axis order, or when one of its edge functions is
+// exactly 0 (the test's recomputation in double).
 #include "packet/packet.h"
 
 #include "packet/lanes.h"
@@ -223,6 +224,13 @@ void nearest_lanes(const Scene& s, const PrimaryTerms& p, const Dirs& d, u32 liv
       else
         scalar_lanes(sh, p.org, d, l, i, st);
       break;
+    case kCylinder:
+    case kCone: {
+      FrustumLanes r = frustum_lanes(sh, p.frustum[i], d.v, l, st.t, st.piece, st.local);
+      st.id = lanes_of(r.hit) ? i4_of(i) : st.id;
+      if (r.rest) scalar_lanes(sh, p.org, d, r.rest, i, st);
+      break;
+    }
     default:
       scalar_lanes(sh, p.org, d, l, i, st);
       break;

@@ -8,10 +8,10 @@
 // first_hit() (tests/test_packet.cpp checks it over the timeline and on
 // random and grazing rays). Only the cost differs: the bound and shape
 // tests start from the per-frame terms (packet/primary.h), and a packet
-// tests the bounds, spheres, planes and triangles for four rays in one SSE2
-// pass; cylinders and cones (and the rare triangle edge cases) are tested
-// per lane by the scalar intersect_t(). Shading and all secondary and
-// shadow rays are the scalar trace_hit() per lane.
+// tests the bounds, spheres, planes, triangles, cylinders and cones for four
+// rays in one SSE2 pass; the rare cases the kernels leave out (frustum.h,
+// packet.cpp) are tested per lane by the scalar intersect_t(). Shading and
+// all secondary and shadow rays are the scalar trace_hit() per lane.
 #pragma once
 #include "abi.h"
 #include "trace.h"

@@ -1,7 +1,8 @@
 // primary.cpp - the per-frame terms of primary rays (primary.h). Each line
 // repeats, for ray.org = org, an expression of bound_mask (trace.cpp) or of
 // hit_sphere / hit_plane / hit_triangle (shapes.cpp), operation for
-// operation, so the values are the ones those functions compute per ray.
+// operation, so the values are the ones those functions compute per ray
+// (frustums: frustum_terms(), packet/frustum.cpp).
 #include "packet/primary.h"
 
 namespace {
@@ -53,6 +54,8 @@ void primary_terms(const Scene& s, Vec3 org, PrimaryTerms& p) {
         p.vert[i][v][1] = rel[v].y;
         p.vert[i][v][2] = rel[v].z;
       }
+    } else if (sh.kind == kCylinder || sh.kind == kCone) {
+      frustum_terms(sh, org, p.frustum[i]);
     }
   }
 }

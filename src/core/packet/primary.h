@@ -7,11 +7,10 @@
 // trace.cpp (bound_mask) and shapes.cpp (hit_sphere, hit_plane,
 // hit_triangle) applies to ray.org, so a tracer that reads it finds
 // bit-identical hits (packet/packet.h; tests/test_packet.cpp).
-// Cylinders and cones get no terms: their solver works from the ray's point
-// nearest the base (shapes.cpp), and primary rays test them through the
-// general intersect_t().
+// Cylinders and cones get frustum_frame()'s origin terms (packet/frustum.h).
 #pragma once
 #include "abi.h"
+#include "packet/frustum.h"
 #include "scene.h"
 
 struct PrimaryTerms {
@@ -36,6 +35,8 @@ struct PrimaryTerms {
   float side[kMaxObjects];
   float vert[kMaxObjects][3][3]; // [object][vertex][x, y, z]
   u32 sideFar;
+  // Cylinder or cone: frustum_terms(shape, org) (set for those kinds only).
+  FrustumTerms frustum[kMaxObjects];
 };
 
 // The terms of `scene` for rays from `org`.

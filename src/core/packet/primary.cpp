@@ -23,11 +23,13 @@ void primary_terms(const Scene& s, Vec3 org, PrimaryTerms& p) {
     p.fy[i] = fy;
     p.fz[i] = fz;
     p.c[i] = fx * fx + fy * fy + fz * fz - s.boundR2[i];
+    bool bounded = !(s.unboundedMask >> i & 1);
     for (int k = 0; k < 4; ++k) {
       p.splat[i][0][k] = fx;
       p.splat[i][1][k] = fy;
       p.splat[i][2][k] = fz;
-      p.splat[i][3][k] = p.c[i];
+      p.splat[i][3][k] = bounded ? p.c[i] : -1.0f;
+      p.away[i][k] = bounded && p.c[i] > 0 ? -1 : 0;
     }
     p.shapeC[i] = p.r2[i] = p.side[i] = 0;
     for (int v = 0; v < 3; ++v)

@@ -22,8 +22,13 @@ struct PrimaryTerms {
   alignas(16) float fz[kMaxObjects];
   alignas(16) float c[kMaxObjects];
   // The same four terms per object, each repeated in four lanes, for
-  // packets of four rays: splat[i] = {fx x4, fy x4, fz x4, c x4}.
+  // packets of four rays: splat[i] = {fx x4, fy x4, fz x4, c x4}, but c =
+  // -1 for an unbounded object (Scene::unboundedMask), which no ray may
+  // miss: b^2 < -1 never holds. away[i]: four lanes of all ones where c > 0
+  // (the camera outside a bound, where a ray pointing away misses it), else
+  // (and unbounded) 0.
   alignas(16) float splat[kMaxObjects][4][4];
+  alignas(16) i32 away[kMaxObjects][4];
   // Per shape i. Sphere: shapeC = |f|^2 - r^2 with the f above (a sphere's
   // bound has its centre), r2 = r^2. Plane: shapeC = normal.(point - org).
   // Triangle: vert = its vertices a, b, c minus org; side = n.(org - a);

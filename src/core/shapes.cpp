@@ -170,10 +170,8 @@ void plane_normal(const Shape& s, Hit& hit) {
 // |k| times that, so a rim slack along the axis overhung a flat ring's rim
 // radially by |k| rim (rays through its hole hit the side; class 2).
 // Caps take |p_perp| <= rc + rim.
-constexpr float kRimRel = 1.0f / 1048576;
-
-// Pieces of a frustum, in Hit::piece.
-enum : u8 { kPieceSide, kPieceBase, kPieceTop };
+// (kRimRel and the pieces kPieceSide, kPieceBase, kPieceTop are in shapes.h:
+// the packet kernel of primary rays repeats this solver.)
 
 // The ray in the axis frame (above).
 struct FrustumFrame {
@@ -225,7 +223,7 @@ __attribute__((always_inline)) inline FrustumFrame frustum_frame(const Shape& s,
 // (36 % in a full one) among rays solved from their nearest point; taken to
 // the clamped rays too (round seven: most shadow rays run within 45 deg of
 // the cylinders' axes to the lights above), it saves 0.8 % of that frame.
-constexpr float kCullRim = 1024.0f;
+// (kCullRim is in shapes.h, beside kRimRel.)
 
 bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   FrustumFrame f = frustum_frame(s, ray);

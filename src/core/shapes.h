@@ -156,6 +156,16 @@ constexpr float kSideRel = 1.0f / 65536;
 // double nearer parallel (shapes.cpp gives the error analysis).
 constexpr float kPlaneCosFloat = 1.0f / 4096;
 
+// hit_frustum()'s constants (shapes.cpp explains both), here because the
+// packet kernel of primary rays (packet/frustum.h) repeats that solver:
+// the pieces' overlap at a rim is kRimRel (|org - base|_max + h + max(r0,
+// r1)), and a ray whose least distance from the axis exceeds max(r0, r1) +
+// kCullRim rim is rejected before the quadratic.
+constexpr float kRimRel = 1.0f / 1048576;
+constexpr float kCullRim = 1024.0f;
+// Pieces of a frustum, in Hit::piece.
+enum : u8 { kPieceSide, kPieceBase, kPieceTop };
+
 Shape make_sphere(Vec3 centre, float radius);
 Shape make_plane(Vec3 normal, float offset);
 Shape make_cylinder(Vec3 base, Vec3 axis, float radius, float height, u8 caps);

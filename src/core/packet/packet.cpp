@@ -6,11 +6,12 @@
 // hit_triangle) or trace.cpp (bound_mask, nearest) for four rays, with the
 // same operations in the same order, the origin terms coming from
 // PrimaryTerms (computed by the same expressions), and per lane the same
-// accept/reject decisions. Every case the kernels do not mirror goes to the
-// scalar intersect_t() for that lane: cylinders and cones always, a
-// triangle when the four rays do not share the watertight test's axis
-// order, or when one of its edge functions is exactly 0 (the test's
-// recomputation in double).
+// accept/reject decisions; cylinders and cones likewise in frustum.cpp.
+// Every case the kernels do not mirror goes to the scalar intersect_t() for
+// that lane: a frustum's lanes within 45 deg of its axis and flat-sided
+// frustums (frustum.h), a triangle when the four rays do not share the
+// watertight test's axis order, or when one of its edge functions is
+// exactly 0 (the test's recomputation in double).
 #include "packet/packet.h"
 
 #include "packet/lanes.h"
@@ -56,27 +57,22 @@ void scalar_lanes(const Shape& shape, Vec3 org, const Dirs& d, u32 lanes, int ob
 }
 
 // bound_mask (trace.cpp) for four rays, one bound at a time, with f
-// and c from the terms. Returns the objects whose bound some lane of `live`
-// may hit; lanes[i] gets those lanes for object i, b[i] their f.d (which is
-// a sphere's own b: its bound has its centre).
-u32 bound_lanes(const Scene& s, const PrimaryTerms& p, const Dirs& d, u32 live,
-                u32 lanes[kMaxObjects], f4 b[kMaxObjects]) {
+// and c from the terms. Returns the lanes of `live` that may hit object i's
+// bound in bits 4i..4i+3 (a nibble per object), and b[i] their f.d (which
+// is a sphere's own b: its bound has its centre). A miss is bound_mask's:
+// b^2 < c, or c > 0 and b > 0 (PrimaryTerms::away); an unbounded object's
+// c of -1 keeps every lane.
+u32 bound_lanes(const Scene& s, const PrimaryTerms& p, const Dirs& d, u32 live, f4 b[kMaxObjects]) {
   f4 zero = f4_of(0.0f);
-  u32 objects = 0;
+  u32 keep = 0;
   for (int i = 0; i < s.numObjects; ++i) {
     const f4* t = (const f4*)p.splat[i];
     f4 bb = t[0] * d.v[0] + t[1] * d.v[1] + t[2] * d.v[2];
     b[i] = bb;
-    u32 m = live;
-    if (!(s.unboundedMask >> i & 1)) {
-      i4 miss = bb * bb < t[3];
-      if (p.c[i] > 0) miss |= bb > zero;
-      m &= ~lane_bits(miss);
-    }
-    lanes[i] = m;
-    objects |= (m ? 1u : 0u) << i;
+    i4 miss = (bb * bb < t[3]) | ((bb > zero) & *(const i4*)p.away[i]);
+    keep |= lane_bits(~miss) << 4 * i;
   }
-  return objects;
+  return keep & live * 0x11111111u;
 }
 
 // hit_sphere (shapes.cpp), tMin = 0, with f, b and c from the terms.
@@ -186,10 +182,9 @@ void nearest_lanes(const Scene& s, const PrimaryTerms& p, const Dirs& d, u32 liv
   st.id = i4_of(-1);
   st.piece = i4_of(0);
   st.local = f4_of(0.0f);
-  u32 lanes[kMaxObjects];
   f4 b[kMaxObjects];
-  u32 objects = bound_lanes(s, p, d, live, lanes, b);
-  u32 foreground = (1u << s.numForeground) - 1;
+  u32 objects = bound_lanes(s, p, d, live, b); // a nibble of lanes per object
+  u32 foreground = s.numForeground >= 8 ? ~0u : (1u << 4 * s.numForeground) - 1;
   AxisOrder order{0, 0, 0, false};
   bool ordered = false;
   for (u32 m = objects & foreground;;) {
@@ -197,15 +192,13 @@ void nearest_lanes(const Scene& s, const PrimaryTerms& p, const Dirs& d, u32 liv
       u32 none = lane_bits(st.id < i4_of(0)) & live;
       u32 background = objects & ~foreground;
       if (!none || !background) break;
-      for (u32 bg = background; bg; bg &= bg - 1)
-        lanes[__builtin_ctz(bg)] &= none;
-      m = background;
+      m = background & none * 0x11111111u;
       objects = 0;
+      if (!m) break;
     }
-    int i = __builtin_ctz(m);
-    m &= m - 1;
-    u32 l = lanes[i];
-    if (!l) continue;
+    int i = __builtin_ctz(m) >> 2;
+    u32 l = m >> 4 * i & 15;
+    m &= ~(15u << 4 * i);
     const Shape& sh = s.objects[i].shape;
     switch (sh.kind) {
     case kSphere:
@@ -224,6 +217,13 @@ void nearest_lanes(const Scene& s, const PrimaryTerms& p, const Dirs& d, u32 liv
       else
         scalar_lanes(sh, p.org, d, l, i, st);
       break;
+    case kCylinder:
+    case kCone: {
+      FrustumLanes r = frustum_lanes(sh, p.frustum[i], d.v, l, st.t, st.piece, st.local);
+      st.id = lanes_of(r.hit) ? i4_of(i) : st.id;
+      if (r.rest) scalar_lanes(sh, p.org, d, r.rest, i, st);
+      break;
+    }
     default:
       scalar_lanes(sh, p.org, d, l, i, st);
       break;

@@ -8,12 +8,12 @@
 // first_hit() (tests/test_packet.cpp checks it over the timeline and on
 // random and grazing rays). Only the cost differs: the bound and shape
 // tests start from the per-frame terms (packet/primary.h), and a packet
-// tests the bounds, spheres, planes and triangles for four rays in one SSE2
-// pass; cylinders and cones (and the rare triangle edge cases) are tested
-// per lane by the scalar intersect_t(). The primary hits are shaded in
-// lanes too (packet/shade.h: the same float operations per lane as
-// trace_hit's); the secondary rays of each lane, and the shadow rays' object
-// tests, are the scalar tracer's.
+// tests the bounds, spheres, planes, triangles, cylinders and cones for four
+// rays in one SSE2 pass; the rare cases the kernels leave out (frustum.h,
+// packet.cpp) are tested per lane by the scalar intersect_t(). The primary
+// hits are shaded in lanes too (packet/shade.h: the same float operations
+// per lane as trace_hit's); the secondary rays of each lane, and the shadow
+// rays' object tests, are the scalar tracer's.
 #pragma once
 #include "abi.h"
 #include "trace.h"

@@ -1,7 +1,8 @@
 // primary.cpp - the per-frame terms of primary rays (primary.h). Each line
 // repeats, for ray.org = org, an expression of bound_mask (trace.cpp) or of
 // hit_sphere / hit_plane / hit_triangle (shapes.cpp), operation for
-// operation, so the values are the ones those functions compute per ray.
+// operation, so the values are the ones those functions compute per ray
+// (frustums: frustum_terms(), packet/frustum.cpp).
 #include "packet/primary.h"
 
 namespace {
@@ -22,11 +23,13 @@ void primary_terms(const Scene& s, Vec3 org, PrimaryTerms& p) {
     p.fy[i] = fy;
     p.fz[i] = fz;
     p.c[i] = fx * fx + fy * fy + fz * fz - s.boundR2[i];
+    bool bounded = !(s.unboundedMask >> i & 1);
     for (int k = 0; k < 4; ++k) {
       p.splat[i][0][k] = fx;
       p.splat[i][1][k] = fy;
       p.splat[i][2][k] = fz;
-      p.splat[i][3][k] = p.c[i];
+      p.splat[i][3][k] = bounded ? p.c[i] : -1.0f;
+      p.away[i][k] = bounded && p.c[i] > 0 ? -1 : 0;
     }
     p.shapeC[i] = p.r2[i] = p.side[i] = 0;
     for (int v = 0; v < 3; ++v)
@@ -53,6 +56,8 @@ void primary_terms(const Scene& s, Vec3 org, PrimaryTerms& p) {
         p.vert[i][v][1] = rel[v].y;
         p.vert[i][v][2] = rel[v].z;
       }
+    } else if (sh.kind == kCylinder || sh.kind == kCone) {
+      frustum_terms(sh, org, p.frustum[i]);
     }
   }
 }

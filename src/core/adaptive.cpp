@@ -146,6 +146,15 @@ struct Node {
 // Most blocks processed as one group (their new samples in one batch).
 constexpr int kGroup = 16;
 
+// The base blocks of a band are processed in groups too: a group ends after
+// kGroup blocks that split or are traced per pixel (each holds its inner
+// lines and up to two new column arrays until the group's children are
+// done), or after kBaseChunk blocks (run_band's array). Most base blocks are
+// copied or interpolated and ask for nothing, so a band's few split blocks
+// share their batches and packets of four (docs/speed-vs-error.md, round
+// eleven: 5,500 -> 4,958 packets at 13 s).
+constexpr int kBaseChunk = 128;
+
 // Samples gathered for one call of flush. A full batch is traced at
 // once; no sample of a batch depends on another, so any cut is fine.
 constexpr int kBatch = 32;
@@ -163,16 +172,24 @@ struct Context {
   Batch batch;
   Edge scratch; // the band's scratch for inner lines; `used` entries taken
   int used;
-  const Node* base; // the base block being processed
+  const Node* base; // the base blocks being processed (run_band's array)
   bool large;       // the block being split is larger than kMaxInterpolated
-  // The band's two column arrays (a base block's left and right sides, in
-  // turn), the x each was last started for (open_column; -1: none), and
-  // what start_column needs: the band's lines of corners and height.
-  Edge columns[2];
-  int columnX[2];
+  // The band's column arrays (base blocks' left and right sides): a ring of
+  // kColumns, the next one to start, the last one started and its x (-1:
+  // none); and what start_column needs: the band's lines of corners and
+  // height.
+  Edge columns;
+  int nextColumn;
+  Edge lastColumn;
+  int lastColumnX;
   Edge top, bottom;
   int h;
 };
+
+// A group of base blocks starts at most two column arrays per block it
+// holds (kGroup), and the last one started before it may still be read (the
+// left side of its first block): the ring never hands out an array in use.
+constexpr int kColumns = 2 * kGroup + 1;
 
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
@@ -187,12 +204,18 @@ RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int 
 // the lines. So a column is started (start_column) only when the first of
 // the two base blocks it separates needs it: the block on its left (as its
 // right side) or else the one on its right (as its left side, which the
-// block on its left, not needing it, has not touched).
-RT64K_COLD RT64K_HOT_ABI void open_column(Context& c, Edge col, int x) {
-  int i = col == c.columns[1];
-  if (c.columnX[i] == x) return;
-  c.columnX[i] = x;
+// block on its left, not needing it, has not touched). Blocks are taken
+// left to right, so the column at x is started already only if it is the
+// last one started.
+RT64K_COLD RT64K_HOT_ABI Edge open_column(Context& c, int x) {
+  if (c.lastColumnX == x) return c.lastColumn;
+  int stride = c.f->baseBlock + 1;
+  Edge col = c.columns + c.nextColumn * stride;
+  c.nextColumn = c.nextColumn + 1 == kColumns ? 0 : c.nextColumn + 1;
+  c.lastColumn = col;
+  c.lastColumnX = x;
   start_column(col, c.top, c.bottom, x, c.h);
+  return col;
 }
 
 // The one place the adaptive renderer casts primary rays: traces the batch,
@@ -319,16 +342,14 @@ RT64K_HOT_ABI int grid_coord(int i, int block, int size) {
   return c < size - 1 ? c : size - 1;
 }
 
-// Scratch entries one band needs: two column arrays of baseBlock + 1, and
-// the inner lines of the split blocks alive at once: per level one group of
-// blocks (one at the base level, four at the next, then at most kGroup); a
-// child is at most half its parent, rounded up.
+// Scratch entries one band needs: kColumns column arrays of baseBlock + 1,
+// and the inner lines of the split blocks alive at once: per level one
+// group of at most kGroup blocks that split (process_group); a child is at
+// most half its parent, rounded up.
 RT64K_HOT_ABI int band_scratch(int baseBlock) {
-  int total = 2 * (baseBlock + 1), nodes = 1;
-  for (int s = baseBlock; s >= 2; s = (s + 1) / 2) {
-    total += nodes * 2 * (s + 1);
-    nodes = nodes * 4 < kGroup ? nodes * 4 : kGroup;
-  }
+  int total = kColumns * (baseBlock + 1);
+  for (int s = baseBlock; s >= 2; s = (s + 1) / 2)
+    total += kGroup * 2 * (s + 1);
   return total;
 }
 
@@ -467,11 +488,18 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
 // Processes `count` blocks whose corners are known: copies, interpolates,
 // or asks for the samples of those traced per pixel and the new samples of
 // those split, traces them in one batch, then processes each split block's
-// children the same way.
-RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
+// children the same way. Returns the number of blocks processed: `count`,
+// but base blocks (c.base) only until kGroup of them split or are traced
+// per pixel.
+RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
-  int used = c.used;
+  int used = c.used, held = 0;
+  bool base = nodes == c.base;
   for (int i = 0; i < count; ++i) {
+    if (held == kGroup) {
+      count = i;
+      break;
+    }
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];
@@ -502,11 +530,12 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
       interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
       continue;
     }
-    if (&n == c.base) {
+    if (base) {
+      ++held;
       open_side(n.top, w);
       open_side(n.bottom, w);
-      open_column(c, n.left, n.x0);
-      open_column(c, n.right, n.x1);
+      n.left = open_column(c, n.x0);
+      n.right = open_column(c, n.x1); // (the same array for a one-pixel-wide image)
     }
     if (is_small(f, w, h)) {
       n.kind = kTraced;
@@ -581,6 +610,7 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
   }
   if (k) process_group(c, kids, k);
   c.used = used;
+  return count;
 }
 
 // Line k of corners is traced by one band next to it: an even band, or the
@@ -603,7 +633,6 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
     int x = grid_coord(i, f.baseBlock, f.width);
     request(c, x, y, line + x);
   }
-  flush(c);
 }
 
 RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
@@ -612,36 +641,34 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   c.stats = stats;
   c.batch.n = 0;
   int bands = f.gridH - 1, B = f.baseBlock;
-  for (int k = band; k <= band + 1; ++k)
+  for (int k = band; k <= band + 1; ++k) // (both lines' corners in one batch)
     if (line_owner(k, bands) == band) trace_line(c, k);
+  if (c.batch.n) flush(c);
   int y0 = grid_coord(band, B, f.height), y1 = grid_coord(band + 1, B, f.height);
   int yEnd = band + 1 == bands ? f.height : y1, h = y1 - y0;
   Edge top = line_edge(f, band), bottom = line_edge(f, band + 1);
   if (h == 0) bottom = top; // a one-pixel-high image
   Edge scratch = band_scratch_edge(f, band);
-  c.columns[0] = scratch; // a block's left side, then its right (open_column)
-  c.columns[1] = scratch + (B + 1);
-  c.columnX[0] = c.columnX[1] = -1;
+  c.columns = scratch;
+  c.nextColumn = 0;
+  c.lastColumn = nullptr;
+  c.lastColumnX = -1;
   c.top = top;
   c.bottom = bottom;
   c.h = h;
-  int left = 0;
-  c.scratch = scratch + 2 * (B + 1);
+  c.scratch = scratch + kColumns * (B + 1);
   c.used = 0;
-  Node n = make_node(0, y0, 0, y1, 0, yEnd, top, bottom, c.columns[0], c.columns[0]);
-  c.base = &n;
-  for (int i = 0; i + 1 < f.gridW; ++i) { // n: the base block i, its left side columns[left]
-    int x0 = n.x1, x1 = grid_coord(i + 1, B, f.width);
-    int right = x1 == x0 ? left : left ^ 1; // a one-pixel-wide image: one column
-    n.x0 = x0;
-    n.x1 = x1;
-    n.xEnd = i + 2 == f.gridW ? f.width : x1;
-    n.top = top + x0;
-    n.bottom = bottom + x0;
-    n.left = c.columns[left];
-    n.right = c.columns[right];
-    process_group(c, &n, 1);
-    left = right;
+  Node nodes[kBaseChunk];
+  c.base = nodes;
+  for (int i = 0; i + 1 < f.gridW;) { // base blocks i, i + 1, ... as one group
+    int count = 0;
+    for (int j = i; j + 1 < f.gridW && count < kBaseChunk; ++j) {
+      int x0 = grid_coord(j, B, f.width), x1 = grid_coord(j + 1, B, f.width);
+      int xEnd = j + 2 == f.gridW ? f.width : x1;
+      nodes[count++] = make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, nullptr,
+                                 nullptr); // (sides: process_group, open_column)
+    }
+    i += process_group(c, nodes, count);
   }
 }
 

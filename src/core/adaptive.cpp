@@ -757,6 +757,19 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v16c zero = {};
   v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
   v8s cd = (v8s)__builtin_ia32_punpckhbw128((v16c)corners, zero); // c | d
+  v8s one = {1, 1, 1, 1, 1, 1, 1, 1};
+  if (s == 1) { // (most calls: the two rows below in one register each)
+    // T(0) | T(1) = 2a | a + b, B likewise; row 0 is T S + 1 (the bias
+    // S^2/2 - 1), row 1 T S + (B - T) + 1; then rounded as below (shift 2).
+    v8s t = ab + (v8s)__builtin_ia32_pshufd((v4i)ab, 0x44);
+    v8s b = cd + (v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), q0 = t + t + one, q1 = t + b + one;
+    q0 = __builtin_ia32_psrawi128(q0 + (__builtin_ia32_psrawi128(q0, 2) & one), 2);
+    q1 = __builtin_ia32_psrawi128(q1 + (__builtin_ia32_psrawi128(q1, 2) & one), 2);
+    v2ll out = (v2ll)__builtin_ia32_packuswb128(q0, q1);
+    *(u64_unaligned*)row = (u64)out[0];
+    *(u64_unaligned*)(row + stride) = (u64)out[1];
+    return;
+  }
   // [e | e] with e = b - a (f = d - c): the change a pixel along the top.
   v8s e = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)ab, 0x4e) - ab), 0x44);
   v8s f = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)cd, 0x4e) - cd), 0x44);
@@ -767,7 +780,7 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
   int size = 1 << s;
   short h = (short)((1 << (2 * s - 1)) - 1);
-  v8s bias = {h, h, h, h, h, h, h, h}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  v8s bias = {h, h, h, h, h, h, h, h};
   v8s shift = (v8s)(v2ll){2 * s, 0}; // psraw's count
   v8s q0 = __builtin_ia32_psllwi128(t, s) + bias, dq = __builtin_ia32_psllwi128(e + e, s);
   v8s q1 = q0 + dq, d1 = d0 + dd;

@@ -479,6 +479,22 @@ RT64K_HOT_ABI bool is_small(const AdaptiveFrame& f, int w, int h) {
 // interpolated in `kinds`.
 RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool written) {
   const AdaptiveFrame& f = *c.f;
+  if (!f.kinds && n.x1 - n.x0 == 2 && n.y1 - n.y0 == 2 && n.xEnd == n.x1 && n.yEnd == n.y1) {
+    // (Most blocks traced per pixel: 2 px, owning neither their right column
+    // nor their bottom row.) Its pixels: the top-left corner, the midpoints
+    // of its top and left sides, and its centre, as the loop below takes them.
+    if (!written) {
+      request(c, n.x0 + 1, n.y0, n.top + 1);
+      request(c, n.x0, n.y0 + 1, n.left + 1);
+      request_pixel(c, n.x0 + 1, n.y0 + 1);
+      return;
+    }
+    u32* p = f.fb + n.y0 * f.stride + n.x0;
+    p[0] = n.top[0].packed;
+    p[1] = n.top[1].packed;
+    p[f.stride] = n.left[1].packed;
+    return;
+  }
   if (written) mark(f, n, kTraced);
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {

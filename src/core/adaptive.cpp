@@ -33,18 +33,20 @@ typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias)
 typedef float v4f __attribute__((vector_size(16)));
 
 // The four records equal (same_path() of a with each of b, c, d, in
-// trace.cpp), without its loops: nodes 0-3 and 3-6 as two vectors, those past
-// a's count masked out.
-static_assert(kMaxPathNodes == 7, "same_records compares nodes 0-3 and 3-6");
+// trace.cpp), without its loops or branches: the count and nodes 0-2 as one
+// vector (the count's byte, not the padding after it), nodes 3-6 as
+// another, the nodes past a's count masked out (where the counts differ,
+// the first lane does).
+static_assert(kMaxPathNodes == 7 && __builtin_offsetof(PathRecord, node) == 4,
+              "same_records compares the count and nodes 0-2, then nodes 3-6");
 inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRecord& c,
                          const PathRecord& d) {
-  if (a.count != b.count || a.count != c.count || a.count != d.count) return false;
   typedef const v4i_unaligned* V;
-  v4i n = {a.count, a.count, a.count, a.count}, first = {0, 1, 2, 3}, last = {3, 4, 5, 6};
-  v4i lo = *(V)a.node, hi = *(V)(a.node + 3);
-  v4i lo2 = (lo ^ *(V)b.node) | (lo ^ *(V)c.node) | (lo ^ *(V)d.node);
+  v4i n = {a.count, a.count, a.count, a.count}, first = {-1, 0, 1, 2}, last = {3, 4, 5, 6};
+  v4i lo = *(V)&a, hi = *(V)(a.node + 3), countByte = {255, -1, -1, -1};
+  v4i lo2 = (lo ^ *(V)&b) | (lo ^ *(V)&c) | (lo ^ *(V)&d);
   v4i hi2 = (hi ^ *(V)(b.node + 3)) | (hi ^ *(V)(c.node + 3)) | (hi ^ *(V)(d.node + 3));
-  v4i differ = (lo2 & (first < n)) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
+  v4i differ = (lo2 & (first < n) & countByte) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
   return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
 }
 
@@ -186,6 +188,7 @@ struct Context {
   int used;
   const Node* base; // the base blocks being processed (run_band's array)
   bool large;       // the block being split is larger than kMaxInterpolated
+  bool exact;       // no kinds map and no tints: interpolate_exact where it applies
   // The band's column arrays (base blocks' left and right sides): a ring of
   // kColumns, the next one to start, the last one started and its x (-1:
   // none); and what start_column needs: the band's lines of corners and
@@ -432,9 +435,10 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
 // interpolate_block.
-inline void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+inline void interpolate(const Context& c, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+  const AdaptiveFrame& f = *c.f;
   int span = b.x1 - b.x0;
-  if (!f.kinds && !f.showBlocks && span == b.y1 - b.y0 && b.xEnd == b.x1 && b.yEnd == b.y1 &&
+  if (c.exact && span == b.y1 - b.y0 && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
       (span == 2 || span == 4 || span == 8)) {
     v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
     interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
@@ -549,14 +553,13 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
              !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
              sees_glass(f, c00))
       n.kind = kSplit;
-    c.large = w > kMaxInterpolated || h > kMaxInterpolated;
-    if (c.large && n.kind == kInterpolated) n.kind = kSplit;
+    if (n.kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) n.kind = kSplit;
     if (n.kind == kCopied) {
       fill(f, n, c00.packed);
       continue;
     }
     if (n.kind == kInterpolated) {
-      interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
+      interpolate(c, n, c00.packed, c10.packed, c01.packed, c11.packed);
       continue;
     }
     if (base) {
@@ -572,6 +575,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       continue;
     }
     // Split at the midpoints; sides of length < 2 are not split.
+    c.large = w > kMaxInterpolated || h > kMaxInterpolated;
     n.xm = w >= 2 ? (n.x0 + n.x1) / 2 : n.x1;
     n.ym = h >= 2 ? (n.y0 + n.y1) / 2 : n.y1;
     n.splitX = n.xm != n.x1;
@@ -669,6 +673,7 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   c.f = &f;
   c.stats = stats;
   c.batch.n = 0;
+  c.exact = !f.kinds && !f.showBlocks;
   int bands = f.gridH - 1, B = f.baseBlock;
   for (int k = band; k <= band + 1; ++k) // (both lines' corners in one batch)
     if (line_owner(k, bands) == band) trace_line(c, k);

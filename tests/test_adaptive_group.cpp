@@ -154,7 +154,7 @@ TEST(AdaptiveFrame, ManySplitBaseBlocksPerBand) {
       mismatched += full.pixels[i] != adaptive.pixels[i];
     }
     EXPECT_GT(most, 2 * 16) << "t=" << c.t << ": base blocks held in one band";
-    
+
     EXPECT_EQ(twice, 0u) << "t=" << c.t;
     EXPECT_EQ(samples, stats.primary) << "t=" << c.t;
     EXPECT_EQ(unset, 0u) << "t=" << c.t;
@@ -163,4 +163,60 @@ TEST(AdaptiveFrame, ManySplitBaseBlocksPerBand) {
     EXPECT_EQ(adaptive.pixels, plain.pixels) << "t=" << c.t << ": with and without kinds map";
     EXPECT_EQ(plain.pixels, threaded.pixels) << "t=" << c.t << ": 1 and 3 threads";
   }
+}
+
+// adaptive_estimate with SSE2 (the records as in adaptive_decide, the
+// channels' differences as saturating byte differences) against its
+// definition: same_path() and |difference| <= 8 on each colour channel,
+// then the midpoint's record is a's and each channel (a + b + 1) / 2, alpha
+// 255; else false and `mid` untouched. Seeded pairs: channels within 12 of
+// each other (so both sides of the limit), records as above, padding random.
+TEST(AdaptiveEstimate, SameAsItsDefinition) {
+  Lcg rng{99};
+  int estimated = 0, byColour = 0, byRecord = 0;
+  for (int iter = 0; iter < 200000; ++iter) {
+    CornerSample a, b, mid, before;
+    std::memset(&a, 0, sizeof a);
+    a.packed = 0xff000000u | (rng.next() & 0xffffffu);
+    b = a;
+    for (int sh = 0; sh < 24; sh += 8) {
+      int ch = int(a.packed >> sh & 255) + int(rng.next() % 25) - 12;
+      ch = ch < 0 ? 0 : ch > 255 ? 255 : ch;
+      b.packed = (b.packed & ~(255u << sh)) | uint32_t(ch) << sh;
+    }
+    a.path.count = (u8)(rng.next() % (kMaxPathNodes + 1));
+    for (u32& node : a.path.node)
+      node = rng.next() % 3;
+    b.path = a.path;
+    for (int i = a.path.count; i < kMaxPathNodes; ++i)
+      b.path.node[i] = rng.next();
+    if (rng.next() % 4 == 0) b.path.node[rng.next() % kMaxPathNodes] ^= 1u;
+    if (rng.next() % 8 == 0) b.path.count = (u8)(rng.next() % (kMaxPathNodes + 1));
+    for (CornerSample* s : {&a, &b})
+      for (int k = 1; k < 4; ++k)
+        reinterpret_cast<uint8_t*>(&s->path)[k] = (uint8_t)rng.next();
+    std::memset(&mid, 0x5a, sizeof mid);
+    before = mid;
+    bool close = true;
+    uint32_t mean = 0xff000000u;
+    for (int sh = 0; sh < 24; sh += 8) {
+      int ca = int(a.packed >> sh & 255), cb = int(b.packed >> sh & 255);
+      close = close && ca - cb <= 8 && cb - ca <= 8;
+      mean |= uint32_t((ca + cb + 1) / 2) << sh;
+    }
+    bool same = same_path(a.path, b.path), expect = same && close;
+    ASSERT_EQ(adaptive_estimate(a, b, mid), expect) << "iter " << iter;
+    if (expect) {
+      ASSERT_EQ(mid.packed, mean) << "iter " << iter;
+      ASSERT_TRUE(same_path(mid.path, a.path)) << "iter " << iter;
+      ++estimated;
+    } else {
+      ASSERT_EQ(std::memcmp(&mid, &before, sizeof mid), 0) << "iter " << iter;
+      byColour += same && !close;
+      byRecord += !same;
+    }
+  }
+  EXPECT_GT(estimated, 20000);
+  EXPECT_GT(byColour, 20000);
+  EXPECT_GT(byRecord, 20000);
 }

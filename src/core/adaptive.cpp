@@ -84,6 +84,24 @@ constexpr u8 kSideOpen = 4;
 // flicker by the glass rule below.
 constexpr int kEstimateContrast = 8;
 
+// adaptive_estimate (inline in request_midpoint): the records compared as
+// in decide, the colours' per-channel differences with SSE2 (both
+// saturating differences, less kEstimateContrast, saturating at 0).
+inline bool estimate(const Sample& a, const Sample& b, Sample& mid) {
+  v4i ca = {(i32)a.packed, 0, 0, 0}, cb = {(i32)b.packed, 0, 0, 0};
+  v16c d =
+      __builtin_ia32_psubusb128((v16c)ca, (v16c)cb) | __builtin_ia32_psubusb128((v16c)cb, (v16c)ca);
+  i32 l = kEstimateContrast * 0x01010101;
+  v4i limits = {l, l, l, l};
+  v16c over = __builtin_ia32_psubusb128(d, (v16c)limits);
+  if ((((v4i)over)[0] & 0xffffff) || !same_records(a.path, b.path, b.path, b.path)) return false;
+  // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
+  mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
+                              (b.packed >> 1 & 0x7f7f7fu));
+  mid.path = a.path;
+  return true;
+}
+
 // A block whose corners see a transparent object (at any recorded depth) is
 // copied or interpolated only when no colour channel of its corners spans
 // more than kGlassContrast[0] / 255 (kGlassContrast[1] / 255 at the minimum
@@ -268,37 +286,32 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   if (e->state != kUnknown) return;
   e->state = kPending;
   Batch& b = c.batch;
-  b.x[b.n] = (float)x;
-  b.y[b.n] = (float)y;
-  b.out[b.n] = e;
-  b.pixel[b.n] = nullptr;
-  if (++b.n == kBatch) flush(c);
+  int n = b.n; // (loaded once: the build has no strict aliasing)
+  b.x[n] = (float)x;
+  b.y[n] = (float)y;
+  b.out[n] = e;
+  b.pixel[n] = nullptr;
+  b.n = ++n;
+  if (n == kBatch) flush(c);
 }
 
 // Asks for the pixel (x, y) inside a block, which no other block reads:
 // traced straight into the framebuffer.
 RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
   Batch& b = c.batch;
-  b.x[b.n] = (float)x;
-  b.y[b.n] = (float)y;
-  b.out[b.n] = &b.spare[b.n];
-  b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
-  if (++b.n == kBatch) flush(c);
+  int n = b.n;
+  b.x[n] = (float)x;
+  b.y[n] = (float)y;
+  b.out[n] = &b.spare[n];
+  b.pixel[n] = c.f->fb + y * c.f->stride + x;
+  b.n = ++n;
+  if (n == kBatch) flush(c);
 }
 
 } // namespace
 
 bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
-  if (!same_path(a.path, b.path)) return false;
-  for (int sh = 0; sh < 24; sh += 8) {
-    int d = (int)(a.packed >> sh & 255) - (int)(b.packed >> sh & 255);
-    if (d > kEstimateContrast || -d > kEstimateContrast) return false;
-  }
-  // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
-  mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
-                              (b.packed >> 1 & 0x7f7f7fu));
-  mid.path = a.path;
-  return true;
+  return estimate(a, b, mid);
 }
 
 namespace {
@@ -308,7 +321,7 @@ namespace {
 // kMaxInterpolated: c.large) or asked for.
 RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   if (side[mid].state != kUnknown) return;
-  if (!c.large && adaptive_estimate(side[0], side[len], side[mid])) {
+  if (!c.large && estimate(side[0], side[len], side[mid])) {
     side[mid].state = kEstimated;
     return;
   }

@@ -335,22 +335,6 @@ RT64K_HOT_ABI Edge allocate(Context& c, int count) {
   return e;
 }
 
-RT64K_HOT_ABI Node make_node(int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top,
-                             Edge bottom, Edge left, Edge right) {
-  Node n;
-  n.x0 = x0;
-  n.y0 = y0;
-  n.x1 = x1;
-  n.y1 = y1;
-  n.xEnd = xEnd;
-  n.yEnd = yEnd;
-  n.top = top;
-  n.bottom = bottom;
-  n.left = left;
-  n.right = right;
-  return n;
-}
-
 // The slot of pixel (x, y) if it lies on a side of the node, else {null}.
 RT64K_HOT_ABI Edge side_slot(const Node& n, int x, int y) {
   if (y == n.y0) return n.top + (x - n.x0);
@@ -708,12 +692,19 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
   Node nodes[kBaseChunk];
   c.base = nodes;
   for (int i = 0; i + 1 < f.gridW;) { // base blocks i, i + 1, ... as one group
-    int count = 0;
+    int count = 0, x0 = grid_coord(i, B, f.width);
     for (int j = i; j + 1 < f.gridW && count < kBaseChunk; ++j) {
-      int x0 = grid_coord(j, B, f.width), x1 = grid_coord(j + 1, B, f.width);
-      int xEnd = j + 2 == f.gridW ? f.width : x1;
-      nodes[count++] = make_node(x0, y0, x1, y1, xEnd, yEnd, top + x0, bottom + x0, nullptr,
-                                 nullptr); // (sides: process_group, open_column)
+      Node& n = nodes[count++]; // (its left and right sides: process_group, open_column)
+      int x1 = grid_coord(j + 1, B, f.width);
+      n.x0 = x0;
+      n.y0 = y0;
+      n.x1 = x1;
+      n.y1 = y1;
+      n.xEnd = j + 2 == f.gridW ? f.width : x1;
+      n.yEnd = yEnd;
+      n.top = top + x0;
+      n.bottom = bottom + x0;
+      x0 = x1;
     }
     i += process_group(c, nodes, count);
   }

@@ -258,14 +258,16 @@ RT64K_COLD RT64K_HOT_ABI Edge open_column(Context& c, int x) {
 RT64K_HOT_ABI void flush(Context& c) {
   Batch& b = c.batch;
   const AdaptiveFrame& f = *c.f;
+  Vec3 color[4] = {}; // (lanes past a short packet's count: packed, not used)
   for (int i = 0; i < b.n; i += 4) {
     int count = b.n - i < 4 ? b.n - i : 4;
-    Vec3 color[4];
     PathRecord paths[4];
+    u32 packs[4];
     trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
+    pack_color4(color, packs);
     for (int k = 0; k < count; ++k) {
       int j = i + k;
-      u32 packed = pack_color(color[k]);
+      u32 packed = packs[k];
       Sample* out = b.out[j]; // (loaded once: the stores below may alias the batch)
       out->packed = packed;
       out->path = paths[k];

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 #include "adaptive.h"
@@ -219,4 +220,73 @@ TEST(AdaptiveEstimate, SameAsItsDefinition) {
   EXPECT_GT(estimated, 20000);
   EXPECT_GT(byColour, 20000);
   EXPECT_GT(byRecord, 20000);
+}
+
+// A band runs in the first scratch no running band holds (adaptive_run):
+// with T threads only the first T of the caller's per-band scratches are
+// written, the rest of the buffer keeps its bytes. The buffer's layout
+// (adaptive.cpp): gridH lines of `width` samples, one scratch per band, the
+// queue (two counters, a done and a busy flag per band) last. Rendered by 1
+// and by 2 threads into a buffer of a seeded byte pattern: no byte past the
+// lines and the first T scratches changes but the queue's, and the picture
+// is the one rendered into zeros.
+TEST(AdaptiveFrame, OnlyTheFirstScratchesPerThreadAreWritten) {
+  const int w = 400, h = 300, block = 8;
+  Scene s;
+  build_timeline_scene(s, 44.0);
+  int gridH = (h - 1 + block - 1) / block + 1, bands = gridH - 1;
+  size_t count = size_t(adaptive_corner_count(w, h, block));
+  size_t lines = size_t(gridH) * size_t(w);
+  size_t queue = (8 + 2 * size_t(bands) + sizeof(CornerSample) - 1) / sizeof(CornerSample);
+  size_t scratch = (count - lines - queue) / size_t(bands); // one band's
+  ASSERT_EQ(lines + scratch * size_t(bands) + queue, count);
+  std::vector<CornerSample> corners(count);
+  auto render = [&](int threads) {
+    Image img(w, h);
+    AdaptiveFrame f{};
+    f.scene = &s;
+    f.fb = img.pixels.data();
+    f.width = f.stride = w;
+    f.height = h;
+    f.baseBlock = block;
+    f.minBlock = 2;
+    f.mode = kModeAdaptive;
+    f.corners = corners.data();
+    adaptive_begin(f);
+    auto work = [&f] {
+      RayStats stats{0, 0, 0};
+      for (int b; (b = adaptive_take(f)) != kAdaptiveDone;)
+        if (b == kAdaptiveWait)
+          std::this_thread::yield();
+        else
+          adaptive_run(f, b, &stats);
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t)
+      pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool)
+      t.join();
+    return img;
+  };
+  std::memset(corners.data(), 0, count * sizeof(CornerSample));
+  Image ref = render(1);
+  for (int threads : {1, 2}) {
+    auto* bytes = reinterpret_cast<uint8_t*>(corners.data());
+    Lcg rng{uint32_t(threads)};
+    for (size_t i = 0; i < count * sizeof(CornerSample); ++i)
+      bytes[i] = (uint8_t)rng.next();
+    std::vector<uint8_t> before(bytes, bytes + count * sizeof(CornerSample));
+    Image img = render(threads);
+    EXPECT_EQ(img.pixels, ref.pixels) << threads << " threads";
+    size_t from = (lines + scratch * size_t(threads)) * sizeof(CornerSample);
+    size_t to = (count - queue) * sizeof(CornerSample), changed = 0;
+    for (size_t i = from; i < to; ++i)
+      changed += bytes[i] != before[i];
+    EXPECT_EQ(changed, 0u) << threads << " threads";
+    size_t firstChanged = 0; // the first scratch is used
+    for (size_t i = lines * sizeof(CornerSample); i < from; ++i)
+      firstChanged += bytes[i] != before[i];
+    EXPECT_GT(firstChanged, 1000u) << threads << " threads";
+  }
 }

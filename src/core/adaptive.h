@@ -75,7 +75,7 @@ struct AdaptiveFrame {
   AdaptiveMode mode;
   bool showBlocks;       // tint copied blocks red, interpolated ones blue
   CornerSample* corners; // caller-owned, adaptive_corner_count() entries: the samples
-                         // kept on every line of corners, and each band's scratch
+                         // kept on every line of corners, and the running bands' scratch
   // Optional (null: none): per pixel (width x height), bits 0-1 the BlockKind
   // that filled it, bits 6-7 how many samples were traced at that pixel
   // (saturating at 3; a test of "no sample traced twice"). Reading the

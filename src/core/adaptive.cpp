@@ -50,18 +50,6 @@ inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRec
   return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
 }
 
-// adaptive_decide (inline in process_group, which calls it once a block).
-// Colour copy needs equal colours AND equal records: two different objects
-// of one colour are not one surface. Interpolation needs equal records.
-inline BlockKind decide(const Sample& c00, const Sample& c10, const Sample& c01, const Sample& c11,
-                        AdaptiveMode mode) {
-  bool samePath = same_records(c00.path, c10.path, c01.path, c11.path);
-  if (!samePath) return kSplit;
-  if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
-    return kCopied;
-  return mode == kModeAdaptive ? kInterpolated : kSplit;
-}
-
 // Per block or per band, not per pixel: kept out of line, which saves bytes
 // in intro.exe for a call's few instructions.
 #define RT64K_COLD __attribute__((noinline))
@@ -537,29 +525,31 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];
     const Sample &c01 = n.bottom[0], &c11 = n.bottom[w];
-    n.kind = decide(c00, c10, c01, c11, f.mode);
-    // Small blocks whose records differ: interpolated where the corners'
-    // colours are close (kSmallContrast).
-    if (n.kind == kSplit && f.mode == kModeAdaptive) {
-      int limit = -1;
-      if (is_small(f, w, h))
-        limit = kSmallContrast[0];
-      else if (w <= 2 * f.minBlock && h <= 2 * f.minBlock)
-        limit = kSmallContrast[1];
-      if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
+    bool small = is_small(f, w, h);
+    // adaptive_decide(), with the rules below in its branches.
+    BlockKind kind = kInterpolated;
+    if (!same_records(c00.path, c10.path, c01.path, c11.path)) {
+      // Small blocks whose records differ: interpolated where the corners'
+      // colours are close (kSmallContrast).
+      int limit = small                                        ? kSmallContrast[0]
+                  : w <= 2 * f.minBlock && h <= 2 * f.minBlock ? kSmallContrast[1]
+                                                               : -1;
+      if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(c00, c10, c01, c11, limit))
+        kind = kSplit;
+    } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
+      kind = kCopied;
+    } else if (f.mode != kModeAdaptive ||
+               // The four records are equal, so c00's stands for all.
+               (!low_contrast(c00, c10, c01, c11, kGlassContrast[small]) && sees_glass(f, c00))) {
+      kind = kSplit;
     }
-    // Interpolated: the four records are equal, so c00's stands for all (a
-    // block copied has one colour: low_contrast holds).
-    else if (n.kind == kInterpolated &&
-             !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
-             sees_glass(f, c00))
-      n.kind = kSplit;
-    if (n.kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) n.kind = kSplit;
-    if (n.kind == kCopied) {
+    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
+    n.kind = kind;
+    if (kind == kCopied) {
       fill(f, n, c00.packed);
       continue;
     }
-    if (n.kind == kInterpolated) {
+    if (kind == kInterpolated) {
       interpolate(c, n, c00.packed, c10.packed, c01.packed, c11.packed);
       continue;
     }
@@ -570,7 +560,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       n.left = open_column(c, n.x0);
       n.right = open_column(c, n.x1); // (the same array for a one-pixel-wide image)
     }
-    if (is_small(f, w, h)) {
+    if (small) {
       n.kind = kTraced;
       trace_block(c, n, false);
       continue;
@@ -716,9 +706,16 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, int slot, RayStats
 
 } // namespace
 
+// Colour copy needs equal colours AND equal records: two different objects
+// of one colour are not one surface. Interpolation needs equal records.
+// (process_group makes the same decision in its own branches.)
 BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
                           const CornerSample& c11, AdaptiveMode mode) {
-  return decide(c00, c10, c01, c11, mode);
+  bool samePath = same_records(c00.path, c10.path, c01.path, c11.path);
+  if (!samePath) return kSplit;
+  if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed)
+    return kCopied;
+  return mode == kModeAdaptive ? kInterpolated : kSplit;
 }
 
 void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 packed) {

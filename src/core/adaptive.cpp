@@ -167,14 +167,15 @@ struct Node {
 constexpr int kGroup = 16;
 
 // The base blocks of a band are processed in groups too: a group ends after
-// kGroup blocks that split or are traced per pixel (each holds its inner
-// lines and up to two new column arrays until the group's children are
-// done), or after kBaseChunk blocks (run_band's array). Most base blocks are
-// copied or interpolated and ask for nothing, so a band's few split blocks
-// share their batches and packets of four (docs/speed-vs-error.md, round
-// eleven: 5,500 -> 4,958 packets at 13 s). 32 blocks: as few instructions
-// as 64 or 128 at 13 s, and fewer cache misses (the nodes, the blocks'
-// scratch and the picture's rows they write stay in the first-level cache).
+// kBaseGroup blocks that split or are traced per pixel (each holds its
+// inner lines and up to two new column arrays until the group's children
+// are done), or after kBaseChunk blocks (run_band's array). Most base blocks
+// are copied or interpolated and ask for nothing, so a band's few split
+// blocks share their batches and packets of four (docs/speed-vs-error.md,
+// round eleven: 5,500 -> 4,957 packets at 13 s). 8 and 32: within 0.1 % of
+// the fewest instructions (16 and 64 blocks), with fewer first-level cache
+// misses (the nodes, the scratch and the picture's rows they write).
+constexpr int kBaseGroup = 8;
 constexpr int kBaseChunk = 32;
 
 // Samples gathered for one call of flush. A full batch is traced at
@@ -210,9 +211,9 @@ struct Context {
 };
 
 // A group of base blocks starts at most two column arrays per block it
-// holds (kGroup), and the last one started before it may still be read (the
+// holds (kBaseGroup), and the last one started before it may still be read (the
 // left side of its first block): the ring never hands out an array in use.
-constexpr int kColumns = 2 * kGroup + 1;
+constexpr int kColumns = 2 * kBaseGroup + 1;
 
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
@@ -348,12 +349,12 @@ RT64K_HOT_ABI int grid_coord(int i, int block, int size) {
 
 // Scratch entries one band needs: kColumns column arrays of baseBlock + 1,
 // and the inner lines of the split blocks alive at once: per level one
-// group of at most kGroup blocks that split (process_group); a child is at
-// most half its parent, rounded up.
+// group of at most kBaseGroup (base level) or kGroup blocks that split
+// (process_group); a child is at most half its parent, rounded up.
 RT64K_HOT_ABI int band_scratch(int baseBlock) {
-  int total = kColumns * (baseBlock + 1);
-  for (int s = baseBlock; s >= 2; s = (s + 1) / 2)
-    total += kGroup * 2 * (s + 1);
+  int total = kColumns * (baseBlock + 1), nodes = kBaseGroup;
+  for (int s = baseBlock; s >= 2; s = (s + 1) / 2, nodes = kGroup)
+    total += nodes * 2 * (s + 1);
   return total;
 }
 
@@ -514,13 +515,13 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
 // or asks for the samples of those traced per pixel and the new samples of
 // those split, traces them in one batch, then processes each split block's
 // children the same way. Returns the number of blocks processed: `count`,
-// but base blocks (c.base) only until kGroup of them split or are traced
-// per pixel.
+// but base blocks (c.base) only until kBaseGroup of them split or are
+// traced per pixel.
 RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
   int used = c.used, held = 0, i = 0;
   bool base = nodes == c.base;
-  for (; i < count && held < kGroup; ++i) {
+  for (; i < count && held < (base ? kBaseGroup : kGroup); ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];

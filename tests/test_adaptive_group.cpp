@@ -1,8 +1,8 @@
 // test_adaptive_group.cpp - round eleven's paths of the adaptive renderer
 // (adaptive.cpp): a band's base blocks processed in groups (until kBaseGroup
 // = 8 of them split or are traced per pixel, their column arrays from a
-// ring of 17),
-// the records compared with the count in the first vector, and the 2-px
+// ring of 17), the records compared with the count in the first vector,
+// adaptive_estimate in SSE2, a scratch per running band, and the 2-px
 // blocks' own paths (interpolate_exact, trace_block), which a frame rendered
 // with a kinds map does not take: the pictures with and without one are the
 // same, bit for bit.

@@ -43,6 +43,9 @@
 // No deadlock: adaptive_take() answers "wait" only when every even band has
 // been taken and the next odd band's neighbours are still running, and even
 // bands wait for nothing, so they finish and the odd band becomes ready.
+// A running band's own working memory (its column arrays and split blocks'
+// inner lines) is the first of the caller's per-band scratches that no
+// other running band holds: with T threads only T are ever touched.
 #pragma once
 #include "abi.h"
 #include "trace.h"

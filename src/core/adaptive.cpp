@@ -33,18 +33,20 @@ typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias)
 typedef float v4f __attribute__((vector_size(16)));
 
 // The four records equal (same_path() of a with each of b, c, d, in
-// trace.cpp), without its loops: nodes 0-3 and 3-6 as two vectors, those past
-// a's count masked out.
-static_assert(kMaxPathNodes == 7, "same_records compares nodes 0-3 and 3-6");
+// trace.cpp), without its loops or branches: the count and nodes 0-2 as one
+// vector (the count's byte, not the padding after it), nodes 3-6 as
+// another, the nodes past a's count masked out (where the counts differ,
+// the first lane does).
+static_assert(kMaxPathNodes == 7 && __builtin_offsetof(PathRecord, node) == 4,
+              "same_records compares the count and nodes 0-2, then nodes 3-6");
 inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRecord& c,
                          const PathRecord& d) {
-  if (a.count != b.count || a.count != c.count || a.count != d.count) return false;
   typedef const v4i_unaligned* V;
-  v4i n = {a.count, a.count, a.count, a.count}, first = {0, 1, 2, 3}, last = {3, 4, 5, 6};
-  v4i lo = *(V)a.node, hi = *(V)(a.node + 3);
-  v4i lo2 = (lo ^ *(V)b.node) | (lo ^ *(V)c.node) | (lo ^ *(V)d.node);
+  v4i n = {a.count, a.count, a.count, a.count}, first = {-1, 0, 1, 2}, last = {3, 4, 5, 6};
+  v4i lo = *(V)&a, hi = *(V)(a.node + 3), countByte = {255, -1, -1, -1};
+  v4i lo2 = (lo ^ *(V)&b) | (lo ^ *(V)&c) | (lo ^ *(V)&d);
   v4i hi2 = (hi ^ *(V)(b.node + 3)) | (hi ^ *(V)(c.node + 3)) | (hi ^ *(V)(d.node + 3));
-  v4i differ = (lo2 & (first < n)) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
+  v4i differ = (lo2 & (first < n) & countByte) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
   return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
 }
 
@@ -69,6 +71,24 @@ constexpr u8 kSideOpen = 4;
 // and kept where a block is traced per pixel (third round), paid for in
 // flicker by the glass rule below.
 constexpr int kEstimateContrast = 8;
+
+// adaptive_estimate (inline in request_midpoint): the records compared as
+// in decide, the colours' per-channel differences with SSE2 (both
+// saturating differences, less kEstimateContrast, saturating at 0).
+inline bool estimate(const Sample& a, const Sample& b, Sample& mid) {
+  v4i ca = {(i32)a.packed, 0, 0, 0}, cb = {(i32)b.packed, 0, 0, 0};
+  v16c d =
+      __builtin_ia32_psubusb128((v16c)ca, (v16c)cb) | __builtin_ia32_psubusb128((v16c)cb, (v16c)ca);
+  i32 l = kEstimateContrast * 0x01010101;
+  v4i limits = {l, l, l, l};
+  v16c over = __builtin_ia32_psubusb128(d, (v16c)limits);
+  if ((((v4i)over)[0] & 0xffffff) || !same_records(a.path, b.path, b.path, b.path)) return false;
+  // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
+  mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
+                              (b.packed >> 1 & 0x7f7f7fu));
+  mid.path = a.path;
+  return true;
+}
 
 // A block whose corners see a transparent object (at any recorded depth) is
 // copied or interpolated only when no colour channel of its corners spans
@@ -146,6 +166,18 @@ struct Node {
 // Most blocks processed as one group (their new samples in one batch).
 constexpr int kGroup = 16;
 
+// The base blocks of a band are processed in groups too: a group ends after
+// kBaseGroup blocks that split or are traced per pixel (each holds its
+// inner lines and up to two new column arrays until the group's children
+// are done), or after kBaseChunk blocks (run_band's array). Most base blocks
+// are copied or interpolated and ask for nothing, so a band's few split
+// blocks share their batches and packets of four (docs/speed-vs-error.md,
+// round eleven: 5,500 -> 4,957 packets at 13 s). 8 and 32: within 0.1 % of
+// the fewest instructions (16 and 64 blocks), with fewer first-level cache
+// misses (the nodes, the scratch and the picture's rows they write).
+constexpr int kBaseGroup = 8;
+constexpr int kBaseChunk = 32;
+
 // Samples gathered for one call of flush. A full batch is traced at
 // once; no sample of a batch depends on another, so any cut is fine.
 constexpr int kBatch = 32;
@@ -163,16 +195,25 @@ struct Context {
   Batch batch;
   Edge scratch; // the band's scratch for inner lines; `used` entries taken
   int used;
-  const Node* base; // the base block being processed
+  const Node* base; // the base blocks being processed (run_band's array)
   bool large;       // the block being split is larger than kMaxInterpolated
-  // The band's two column arrays (a base block's left and right sides, in
-  // turn), the x each was last started for (open_column; -1: none), and
-  // what start_column needs: the band's lines of corners and height.
-  Edge columns[2];
-  int columnX[2];
+  bool exact;       // no kinds map and no tints: interpolate_exact where it applies
+  // The band's column arrays (base blocks' left and right sides): a ring of
+  // kColumns, the next one to start, the last one started and its x (-1:
+  // none); and what start_column needs: the band's lines of corners and
+  // height.
+  Edge columns;
+  int nextColumn;
+  Edge lastColumn;
+  int lastColumnX;
   Edge top, bottom;
   int h;
 };
+
+// A group of base blocks starts at most two column arrays per block it
+// holds (kBaseGroup), and the last one started before it may still be read (the
+// left side of its first block): the ring never hands out an array in use.
+constexpr int kColumns = 2 * kBaseGroup + 1;
 
 // A column array for the block side x = x of the band: ends copied from the
 // lines, inside unknown.
@@ -187,12 +228,18 @@ RT64K_COLD RT64K_HOT_ABI void start_column(Edge col, Edge top, Edge bottom, int 
 // the lines. So a column is started (start_column) only when the first of
 // the two base blocks it separates needs it: the block on its left (as its
 // right side) or else the one on its right (as its left side, which the
-// block on its left, not needing it, has not touched).
-RT64K_COLD RT64K_HOT_ABI void open_column(Context& c, Edge col, int x) {
-  int i = col == c.columns[1];
-  if (c.columnX[i] == x) return;
-  c.columnX[i] = x;
+// block on its left, not needing it, has not touched). Blocks are taken
+// left to right, so the column at x is started already only if it is the
+// last one started.
+RT64K_COLD RT64K_HOT_ABI Edge open_column(Context& c, int x) {
+  if (c.lastColumnX == x) return c.lastColumn;
+  int stride = c.f->baseBlock + 1;
+  Edge col = c.columns + c.nextColumn * stride;
+  c.nextColumn = c.nextColumn + 1 == kColumns ? 0 : c.nextColumn + 1;
+  c.lastColumn = col;
+  c.lastColumnX = x;
   start_column(col, c.top, c.bottom, x, c.h);
+  return col;
 }
 
 // The one place the adaptive renderer casts primary rays: traces the batch,
@@ -202,14 +249,16 @@ RT64K_COLD RT64K_HOT_ABI void open_column(Context& c, Edge col, int x) {
 RT64K_HOT_ABI void flush(Context& c) {
   Batch& b = c.batch;
   const AdaptiveFrame& f = *c.f;
+  Vec3 color[4] = {}; // (lanes past a short packet's count: packed, not used)
   for (int i = 0; i < b.n; i += 4) {
     int count = b.n - i < 4 ? b.n - i : 4;
-    Vec3 color[4];
     PathRecord paths[4];
+    u32 packs[4];
     trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
+    pack_color4(color, packs);
     for (int k = 0; k < count; ++k) {
       int j = i + k;
-      u32 packed = pack_color(color[k]);
+      u32 packed = packs[k];
       Sample* out = b.out[j]; // (loaded once: the stores below may alias the batch)
       out->packed = packed;
       out->path = paths[k];
@@ -230,37 +279,32 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   if (e->state != kUnknown) return;
   e->state = kPending;
   Batch& b = c.batch;
-  b.x[b.n] = (float)x;
-  b.y[b.n] = (float)y;
-  b.out[b.n] = e;
-  b.pixel[b.n] = nullptr;
-  if (++b.n == kBatch) flush(c);
+  int n = b.n; // (loaded once: the build has no strict aliasing)
+  b.x[n] = (float)x;
+  b.y[n] = (float)y;
+  b.out[n] = e;
+  b.pixel[n] = nullptr;
+  b.n = ++n;
+  if (n == kBatch) flush(c);
 }
 
 // Asks for the pixel (x, y) inside a block, which no other block reads:
 // traced straight into the framebuffer.
 RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
   Batch& b = c.batch;
-  b.x[b.n] = (float)x;
-  b.y[b.n] = (float)y;
-  b.out[b.n] = &b.spare[b.n];
-  b.pixel[b.n] = c.f->fb + y * c.f->stride + x;
-  if (++b.n == kBatch) flush(c);
+  int n = b.n;
+  b.x[n] = (float)x;
+  b.y[n] = (float)y;
+  b.out[n] = &b.spare[n];
+  b.pixel[n] = c.f->fb + y * c.f->stride + x;
+  b.n = ++n;
+  if (n == kBatch) flush(c);
 }
 
 } // namespace
 
 bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
-  if (!same_path(a.path, b.path)) return false;
-  for (int sh = 0; sh < 24; sh += 8) {
-    int d = (int)(a.packed >> sh & 255) - (int)(b.packed >> sh & 255);
-    if (d > kEstimateContrast || -d > kEstimateContrast) return false;
-  }
-  // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
-  mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
-                              (b.packed >> 1 & 0x7f7f7fu));
-  mid.path = a.path;
-  return true;
+  return estimate(a, b, mid);
 }
 
 namespace {
@@ -270,7 +314,7 @@ namespace {
 // kMaxInterpolated: c.large) or asked for.
 RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   if (side[mid].state != kUnknown) return;
-  if (!c.large && adaptive_estimate(side[0], side[len], side[mid])) {
+  if (!c.large && estimate(side[0], side[len], side[mid])) {
     side[mid].state = kEstimated;
     return;
   }
@@ -282,22 +326,6 @@ RT64K_HOT_ABI Edge allocate(Context& c, int count) {
   c.used += count;
   clear_states(e, count);
   return e;
-}
-
-RT64K_HOT_ABI Node make_node(int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top,
-                             Edge bottom, Edge left, Edge right) {
-  Node n;
-  n.x0 = x0;
-  n.y0 = y0;
-  n.x1 = x1;
-  n.y1 = y1;
-  n.xEnd = xEnd;
-  n.yEnd = yEnd;
-  n.top = top;
-  n.bottom = bottom;
-  n.left = left;
-  n.right = right;
-  return n;
 }
 
 // The slot of pixel (x, y) if it lies on a side of the node, else {null}.
@@ -319,16 +347,14 @@ RT64K_HOT_ABI int grid_coord(int i, int block, int size) {
   return c < size - 1 ? c : size - 1;
 }
 
-// Scratch entries one band needs: two column arrays of baseBlock + 1, and
-// the inner lines of the split blocks alive at once: per level one group of
-// blocks (one at the base level, four at the next, then at most kGroup); a
-// child is at most half its parent, rounded up.
+// Scratch entries one band needs: kColumns column arrays of baseBlock + 1,
+// and the inner lines of the split blocks alive at once: per level one
+// group of at most kBaseGroup (base level) or kGroup blocks that split
+// (process_group); a child is at most half its parent, rounded up.
 RT64K_HOT_ABI int band_scratch(int baseBlock) {
-  int total = 2 * (baseBlock + 1), nodes = 1;
-  for (int s = baseBlock; s >= 2; s = (s + 1) / 2) {
+  int total = kColumns * (baseBlock + 1), nodes = kBaseGroup;
+  for (int s = baseBlock; s >= 2; s = (s + 1) / 2, nodes = kGroup)
     total += nodes * 2 * (s + 1);
-    nodes = nodes * 4 < kGroup ? nodes * 4 : kGroup;
-  }
   return total;
 }
 
@@ -337,18 +363,22 @@ RT64K_HOT_ABI int bytes_as_samples(int bytes) {
 }
 
 // The caller's buffer: the lines of corners (gridH x width samples), then
-// each band's scratch (each sample with its slot state), then the bands'
-// queue (Queue: two counters, then a done flag per band).
+// a scratch per band (each sample with its slot state), then the bands'
+// queue (Queue: two counters, then a done flag per band, then a busy flag
+// per scratch). A band runs in the first scratch no other running band
+// holds (adaptive_run): with T threads only the first T are ever used, and
+// they stay in the cache from band to band (a scratch per band touched
+// 1.8 MB a frame at 800 x 600 with round eleven's groups).
 RT64K_HOT_ABI int sample_slots(const AdaptiveFrame& f) {
   return f.gridH * f.width + (f.gridH - 1) * band_scratch(f.baseBlock);
 }
 
 struct Queue {
   i32 nextEven, nextOdd; // the next band of each parity to hand out
-  u8 done[1];            // [bands]: 1 once the band has run
+  u8 done[1];            // [bands]: 1 once the band has run; then [bands] busy flags
 };
 
-int queue_bytes(int bands) { return (int)sizeof(Queue) + bands; }
+int queue_bytes(int bands) { return (int)sizeof(Queue) + 2 * bands; }
 
 RT64K_HOT_ABI Queue* queue(const AdaptiveFrame& f) {
   int samples = sample_slots(f);
@@ -357,8 +387,8 @@ RT64K_HOT_ABI Queue* queue(const AdaptiveFrame& f) {
 
 RT64K_HOT_ABI Edge line_edge(const AdaptiveFrame& f, int k) { return f.corners + k * f.width; }
 
-RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int band) {
-  int offset = f.gridH * f.width + band * band_scratch(f.baseBlock);
+RT64K_HOT_ABI Edge band_scratch_edge(const AdaptiveFrame& f, int slot) {
+  int offset = f.gridH * f.width + slot * band_scratch(f.baseBlock);
   return f.corners + offset;
 }
 
@@ -399,9 +429,10 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
 // interpolate_block.
-inline void interpolate(const AdaptiveFrame& f, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+inline void interpolate(const Context& c, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+  const AdaptiveFrame& f = *c.f;
   int span = b.x1 - b.x0;
-  if (!f.kinds && !f.showBlocks && span == b.y1 - b.y0 && b.xEnd == b.x1 && b.yEnd == b.y1 &&
+  if (c.exact && span == b.y1 - b.y0 && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
       (span == 2 || span == 4 || span == 8)) {
     v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
     interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
@@ -446,6 +477,22 @@ RT64K_HOT_ABI bool is_small(const AdaptiveFrame& f, int w, int h) {
 // interpolated in `kinds`.
 RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool written) {
   const AdaptiveFrame& f = *c.f;
+  if (!f.kinds && n.x1 - n.x0 == 2 && n.y1 - n.y0 == 2 && n.xEnd == n.x1 && n.yEnd == n.y1) {
+    // (Most blocks traced per pixel: 2 px, owning neither their right column
+    // nor their bottom row.) Its pixels: the top-left corner, the midpoints
+    // of its top and left sides, and its centre, as the loop below takes them.
+    if (!written) {
+      request(c, n.x0 + 1, n.y0, n.top + 1);
+      request(c, n.x0, n.y0 + 1, n.left + 1);
+      request_pixel(c, n.x0 + 1, n.y0 + 1);
+      return;
+    }
+    u32* p = f.fb + n.y0 * f.stride + n.x0;
+    p[0] = n.top[0].packed;
+    p[1] = n.top[1].packed;
+    p[f.stride] = n.left[1].packed;
+    return;
+  }
   if (written) mark(f, n, kTraced);
   for (int y = n.y0; y < n.yEnd; ++y)
     for (int x = n.x0; x < n.xEnd; ++x) {
@@ -467,53 +514,60 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
 // Processes `count` blocks whose corners are known: copies, interpolates,
 // or asks for the samples of those traced per pixel and the new samples of
 // those split, traces them in one batch, then processes each split block's
-// children the same way.
-RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
+// children the same way. Returns the number of blocks processed: `count`,
+// but base blocks (c.base) only until kBaseGroup of them split or are
+// traced per pixel.
+RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
-  int used = c.used;
-  for (int i = 0; i < count; ++i) {
+  int used = c.used, held = 0, i = 0;
+  bool base = nodes == c.base;
+  for (; i < count && held < (base ? kBaseGroup : kGroup); ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];
     const Sample &c01 = n.bottom[0], &c11 = n.bottom[w];
-    n.kind = adaptive_decide(c00, c10, c01, c11, f.mode);
-    // Small blocks whose records differ: interpolated where the corners'
-    // colours are close (kSmallContrast).
-    if (n.kind == kSplit && f.mode == kModeAdaptive) {
-      int limit = -1;
-      if (is_small(f, w, h))
-        limit = kSmallContrast[0];
-      else if (w <= 2 * f.minBlock && h <= 2 * f.minBlock)
-        limit = kSmallContrast[1];
-      if (limit >= 0 && low_contrast(c00, c10, c01, c11, limit)) n.kind = kInterpolated;
+    bool small = is_small(f, w, h);
+    // adaptive_decide(), with the rules below in its branches.
+    BlockKind kind = kInterpolated;
+    if (!same_records(c00.path, c10.path, c01.path, c11.path)) {
+      // Small blocks whose records differ: interpolated where the corners'
+      // colours are close (kSmallContrast).
+      int limit = small                                        ? kSmallContrast[0]
+                  : w <= 2 * f.minBlock && h <= 2 * f.minBlock ? kSmallContrast[1]
+                                                               : -1;
+      if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(c00, c10, c01, c11, limit))
+        kind = kSplit;
+    } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
+      kind = kCopied;
+    } else if (f.mode != kModeAdaptive ||
+               // The four records are equal, so c00's stands for all.
+               (!low_contrast(c00, c10, c01, c11, kGlassContrast[small]) && sees_glass(f, c00))) {
+      kind = kSplit;
     }
-    // Not split: the four records are equal, so c00's stands for all.
-    else if (n.kind != kSplit &&
-             !low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
-             sees_glass(f, c00))
-      n.kind = kSplit;
-    c.large = w > kMaxInterpolated || h > kMaxInterpolated;
-    if (c.large && n.kind == kInterpolated) n.kind = kSplit;
-    if (n.kind == kCopied) {
+    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
+    n.kind = kind;
+    if (kind == kCopied) {
       fill(f, n, c00.packed);
       continue;
     }
-    if (n.kind == kInterpolated) {
-      interpolate(f, n, c00.packed, c10.packed, c01.packed, c11.packed);
+    if (kind == kInterpolated) {
+      interpolate(c, n, c00.packed, c10.packed, c01.packed, c11.packed);
       continue;
     }
-    if (&n == c.base) {
+    if (base) {
+      ++held;
       open_side(n.top, w);
       open_side(n.bottom, w);
-      open_column(c, n.left, n.x0);
-      open_column(c, n.right, n.x1);
+      n.left = open_column(c, n.x0);
+      n.right = open_column(c, n.x1); // (the same array for a one-pixel-wide image)
     }
-    if (is_small(f, w, h)) {
+    if (small) {
       n.kind = kTraced;
       trace_block(c, n, false);
       continue;
     }
     // Split at the midpoints; sides of length < 2 are not split.
+    c.large = w > kMaxInterpolated || h > kMaxInterpolated;
     n.xm = w >= 2 ? (n.x0 + n.x1) / 2 : n.x1;
     n.ym = h >= 2 ? (n.y0 + n.y1) / 2 : n.y1;
     n.splitX = n.xm != n.x1;
@@ -534,8 +588,8 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
   if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];
   int k = 0;
-  for (int i = 0; i < count; ++i) {
-    Node& n = nodes[i];
+  for (int p = 0; p < i; ++p) {
+    Node& n = nodes[p];
     if (n.kind == kTraced) trace_block(c, n, true);
     if (n.kind != kSplit) continue;
     int w = n.x1 - n.x0, h = n.y1 - n.y0, a = n.xm - n.x0, b = n.ym - n.y0;
@@ -581,6 +635,7 @@ RT64K_HOT_ABI void process_group(Context& c, Node* nodes, int count) {
   }
   if (k) process_group(c, kids, k);
   c.used = used;
+  return i;
 }
 
 // Line k of corners is traced by one band next to it: an even band, or the
@@ -603,45 +658,50 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
     int x = grid_coord(i, f.baseBlock, f.width);
     request(c, x, y, line + x);
   }
-  flush(c);
 }
 
-RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
+RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, int slot, RayStats* stats) {
   Context c;
   c.f = &f;
   c.stats = stats;
   c.batch.n = 0;
+  c.exact = !f.kinds && !f.showBlocks;
   int bands = f.gridH - 1, B = f.baseBlock;
-  for (int k = band; k <= band + 1; ++k)
+  for (int k = band; k <= band + 1; ++k) // (both lines' corners in one batch)
     if (line_owner(k, bands) == band) trace_line(c, k);
+  if (c.batch.n) flush(c);
   int y0 = grid_coord(band, B, f.height), y1 = grid_coord(band + 1, B, f.height);
   int yEnd = band + 1 == bands ? f.height : y1, h = y1 - y0;
   Edge top = line_edge(f, band), bottom = line_edge(f, band + 1);
   if (h == 0) bottom = top; // a one-pixel-high image
-  Edge scratch = band_scratch_edge(f, band);
-  c.columns[0] = scratch; // a block's left side, then its right (open_column)
-  c.columns[1] = scratch + (B + 1);
-  c.columnX[0] = c.columnX[1] = -1;
+  Edge scratch = band_scratch_edge(f, slot);
+  c.columns = scratch;
+  c.nextColumn = 0;
+  c.lastColumn = nullptr;
+  c.lastColumnX = -1;
   c.top = top;
   c.bottom = bottom;
   c.h = h;
-  int left = 0;
-  c.scratch = scratch + 2 * (B + 1);
+  c.scratch = scratch + kColumns * (B + 1);
   c.used = 0;
-  Node n = make_node(0, y0, 0, y1, 0, yEnd, top, bottom, c.columns[0], c.columns[0]);
-  c.base = &n;
-  for (int i = 0; i + 1 < f.gridW; ++i) { // n: the base block i, its left side columns[left]
-    int x0 = n.x1, x1 = grid_coord(i + 1, B, f.width);
-    int right = x1 == x0 ? left : left ^ 1; // a one-pixel-wide image: one column
-    n.x0 = x0;
-    n.x1 = x1;
-    n.xEnd = i + 2 == f.gridW ? f.width : x1;
-    n.top = top + x0;
-    n.bottom = bottom + x0;
-    n.left = c.columns[left];
-    n.right = c.columns[right];
-    process_group(c, &n, 1);
-    left = right;
+  Node nodes[kBaseChunk];
+  c.base = nodes;
+  for (int i = 0; i + 1 < f.gridW;) { // base blocks i, i + 1, ... as one group
+    int count = 0, x0 = grid_coord(i, B, f.width);
+    for (int j = i; j + 1 < f.gridW && count < kBaseChunk; ++j) {
+      Node& n = nodes[count++]; // (its left and right sides: process_group, open_column)
+      int x1 = grid_coord(j + 1, B, f.width);
+      n.x0 = x0;
+      n.y0 = y0;
+      n.x1 = x1;
+      n.y1 = y1;
+      n.xEnd = j + 2 == f.gridW ? f.width : x1;
+      n.yEnd = yEnd;
+      n.top = top + x0;
+      n.bottom = bottom + x0;
+      x0 = x1;
+    }
+    i += process_group(c, nodes, count);
   }
 }
 
@@ -649,6 +709,7 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, RayStats* stats) {
 
 // Colour copy needs equal colours AND equal records: two different objects
 // of one colour are not one surface. Interpolation needs equal records.
+// (process_group makes the same decision in its own branches.)
 BlockKind adaptive_decide(const CornerSample& c00, const CornerSample& c10, const CornerSample& c01,
                           const CornerSample& c11, AdaptiveMode mode) {
   bool samePath = same_records(c00.path, c10.path, c01.path, c11.path);
@@ -723,6 +784,19 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v16c zero = {};
   v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
   v8s cd = (v8s)__builtin_ia32_punpckhbw128((v16c)corners, zero); // c | d
+  v8s one = {1, 1, 1, 1, 1, 1, 1, 1};
+  if (s == 1) { // (most calls: the two rows below in one register each)
+    // T(0) | T(1) = 2a | a + b, B likewise; row 0 is T S + 1 (the bias
+    // S^2/2 - 1), row 1 T S + (B - T) + 1; then rounded as below (shift 2).
+    v8s t = ab + (v8s)__builtin_ia32_pshufd((v4i)ab, 0x44);
+    v8s b = cd + (v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), q0 = t + t + one, q1 = t + b + one;
+    q0 = __builtin_ia32_psrawi128(q0 + (__builtin_ia32_psrawi128(q0, 2) & one), 2);
+    q1 = __builtin_ia32_psrawi128(q1 + (__builtin_ia32_psrawi128(q1, 2) & one), 2);
+    v2ll out = (v2ll)__builtin_ia32_packuswb128(q0, q1);
+    *(u64_unaligned*)row = (u64)out[0];
+    *(u64_unaligned*)(row + stride) = (u64)out[1];
+    return;
+  }
   // [e | e] with e = b - a (f = d - c): the change a pixel along the top.
   v8s e = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)ab, 0x4e) - ab), 0x44);
   v8s f = (v8s)__builtin_ia32_pshufd((v4i)((v8s)__builtin_ia32_pshufd((v4i)cd, 0x4e) - cd), 0x44);
@@ -733,7 +807,7 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
   int size = 1 << s;
   short h = (short)((1 << (2 * s - 1)) - 1);
-  v8s bias = {h, h, h, h, h, h, h, h}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  v8s bias = {h, h, h, h, h, h, h, h};
   v8s shift = (v8s)(v2ll){2 * s, 0}; // psraw's count
   v8s q0 = __builtin_ia32_psllwi128(t, s) + bias, dq = __builtin_ia32_psllwi128(e + e, s);
   v8s q1 = q0 + dq, d1 = d0 + dd;
@@ -837,7 +911,7 @@ void adaptive_begin(AdaptiveFrame& f) {
   int bands = f.gridH - 1;
   q->nextEven = (bands - 1) & ~1;                 // the last even band
   q->nextOdd = bands % 2 ? bands - 2 : bands - 1; // the last odd band (-1: none)
-  for (int b = 0; b < bands; ++b)
+  for (int b = 0; b < 2 * bands; ++b)             // done and busy flags
     q->done[b] = 0;
 }
 
@@ -873,7 +947,16 @@ int adaptive_take(const AdaptiveFrame& f) {
   }
 }
 
+// The scratch: the first one free, taken with acquire order and given back
+// with release order, so that one band's writes to it happen before the
+// next holder's. At most `bands` bands run at once: one is always free.
 void adaptive_run(const AdaptiveFrame& f, int band, RayStats* stats) {
-  run_band(f, band, stats);
-  __atomic_store_n(&queue(f)->done[band], (u8)1, __ATOMIC_RELEASE);
+  int bands = f.gridH - 1, slot = 0;
+  u8* done = queue(f)->done;
+  u8* busy = done + bands;
+  while (__atomic_exchange_n(&busy[slot], (u8)1, __ATOMIC_ACQUIRE)) // (1 already: not ours)
+    slot = slot + 1 < bands ? slot + 1 : 0;
+  run_band(f, band, slot, stats);
+  __atomic_store_n(&busy[slot], (u8)0, __ATOMIC_RELEASE);
+  __atomic_store_n(&done[band], (u8)1, __ATOMIC_RELEASE);
 }

@@ -43,6 +43,9 @@
 // No deadlock: adaptive_take() answers "wait" only when every even band has
 // been taken and the next odd band's neighbours are still running, and even
 // bands wait for nothing, so they finish and the odd band becomes ready.
+// A running band's own working memory (its column arrays and split blocks'
+// inner lines) is the first of the caller's per-band scratches that no
+// other running band holds: with T threads only T are ever touched.
 #pragma once
 #include "abi.h"
 #include "trace.h"
@@ -75,7 +78,7 @@ struct AdaptiveFrame {
   AdaptiveMode mode;
   bool showBlocks;       // tint copied blocks red, interpolated ones blue
   CornerSample* corners; // caller-owned, adaptive_corner_count() entries: the samples
-                         // kept on every line of corners, and each band's scratch
+                         // kept on every line of corners, and the running bands' scratch
   // Optional (null: none): per pixel (width x height), bits 0-1 the BlockKind
   // that filled it, bits 6-7 how many samples were traced at that pixel
   // (saturating at 3; a test of "no sample traced twice"). Reading the

@@ -94,9 +94,14 @@ __attribute__((noinline)) f4 cook_torrance4(V4 N, V4 I, V4 L, f4 roughness, f4 f
 
 } // namespace
 
-void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4], Hit hit[4],
-                    u32 lanes, PathRecord* paths, Vec3 color[4]) {
+void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h, u32 lanes,
+                    PathRecord* paths, Vec3 color[4]) {
   const Scene& s = *ctx.scene;
+  alignas(16) i32 id[4];
+  *(i4*)id = h.id;
+  // Each lane's Hit where the scalar hit_normal() needs one (a sphere's band
+  // lanes, mixed packets); the one-object normals take t and piece in lanes.
+  Hit hit[4];
   V4 D = {dir[0], dir[1], dir[2]};
   int first = __builtin_ctz(lanes);
   const Object* obj[4];
@@ -107,8 +112,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
   f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior, roughness, f0;
   i4 front;
   const Object& o0 = s.objects[id[first]];
-  i4 ids;
-  __builtin_memcpy(&ids, id, 16); // lanes outside `lanes` do not count
+  i4 ids = h.id; // lanes outside `lanes` do not count
+  i4 held = lanes_of(lanes);
   ShapeKind kind0 = o0.shape.kind;
   bool uniform = (kind0 == kSphere || kind0 == kPlane || kind0 == kTriangle) &&
                  (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
@@ -128,13 +133,11 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     roughness = f4_of(mt.roughness);
     f0 = f4_of(mt.f0);
     size = f4_of(o0.shape.size);
-    i4 piece;
-    for (int k = 0; k < 4; ++k) {
-      int src = lanes >> k & 1 ? k : first;
+    // The lanes outside `lanes` repeat the first lane's hit.
+    T4 = held ? h.t : f4_of(h.t[first]);
+    i4 piece = held ? h.piece : i4_of(h.piece[first]);
+    for (int k = 0; k < 4; ++k)
       obj[k] = &o0;
-      T4[k] = hit[src].t;
-      piece[k] = hit[src].piece;
-    }
     const Shape& sh = o0.shape;
     V4 A = splat(sh.a);
     u32 self = 1u << id[first];
@@ -154,6 +157,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       N = select(front, out, V4{-out.x, -out.y, -out.z});
       for (u32 q = lanes & ~ok; q; q &= q - 1) {
         int k = __builtin_ctz(q);
+        hit[k].t = h.t[k];
+        hit[k].piece = (u8)h.piece[k];
+        hit[k].local = h.local[k];
         hit_normal(sh, Ray{org, Vec3{D.x[k], D.y[k], D.z[k]}}, hit[k]);
         N.x[k] = hit[k].normal.x;
         N.y[k] = hit[k].normal.y;
@@ -172,6 +178,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     dirs.set(D);
     for (u32 q = lanes; q; q &= q - 1) {
       int k = __builtin_ctz(q);
+      hit[k].t = h.t[k];
+      hit[k].piece = (u8)h.piece[k];
+      hit[k].local = h.local[k];
       hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
     }
     // Each lane's object, material and hit as columns (the lanes outside
@@ -193,14 +202,14 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       range[k] = flat || hit[src].front ? foreground & ~(1u << id[src]) : foreground;
       inside |= (u32)(!hit[src].front && closed_convex(sh)) << k;
     }
-    f4 c[4], sp[4], gl[4], h[4];
+    f4 c[4], sp[4], gl[4], hc[4];
     columns(rowC, c);
     columns(rowS, sp);
     columns(rowI, gl);
-    columns(rowH, h);
+    columns(rowH, hc);
     mc = V4{c[0], c[1], c[2]};
-    N = V4{h[1], h[2], h[3]};
-    T4 = h[0];
+    N = V4{hc[1], hc[2], hc[3]};
+    T4 = hc[0];
     diffuse = c[3];
     specular = sp[0];
     shininess = sp[1];
@@ -212,7 +221,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     front = *(i4*)frontOf;
   }
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
-  i4 live = lanes_of(lanes);
+  i4 live = held;
   V4 p = splat(org) + D * T4;
   V4 col = splat(s.ambient) * mc;
   f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
@@ -336,14 +345,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       PathRecord& rec = paths[k];
       rec.node[0] = (u32)(id[k] + 1) | bits[k];
       rec.count = 1;
-      ctx.record = &rec;
     }
-    if (waiting[k]) {
-      root[k].waiting = waiting[k];
-      root[k].sum = sum.lane(k);
-      color[k] = trace_children(ctx, root[k]);
-    } else {
-      color[k] = sum.lane(k) * 1.0f; // sum * (1 / rootWeight)
-    }
+    root[k].waiting = waiting[k];
+    root[k].sum = sum.lane(k);
   }
+  trace_children4(ctx, root, lanes, paths, color);
 }

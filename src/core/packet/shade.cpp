@@ -9,6 +9,11 @@
 
 namespace {
 
+// Hit::piece of a frustum's hit (shapes.cpp's enum, which the header does
+// not export): the side, the base cap, the top cap. test_shade4's caps and
+// sides check them.
+constexpr i32 kFrustumSide = 0, kFrustumTop = 2;
+
 // Three float lanes: a Vec3 in each of four lanes.
 struct V4 {
   f4 x, y, z;
@@ -115,13 +120,13 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   i4 ids = h.id; // lanes outside `lanes` do not count
   i4 held = lanes_of(lanes);
   ShapeKind kind0 = o0.shape.kind;
-  bool uniform = (kind0 == kSphere || kind0 == kPlane || kind0 == kTriangle) &&
-                 (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
+  bool uniform = (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
   if (uniform) {
-    // Every lane sees one sphere, plane or triangle (most calls): the material in
-    // every lane, and hit_normal() (shapes.cpp) in lanes: sphere_outward()
-    // where |m|^2 lies in [r^2 / 4, 4 r^2], then face(); plane_normal().
-    // The other lanes (a sphere's band) through the scalar hit_normal().
+    // Every lane sees one object (most calls): the material in every lane,
+    // and hit_normal() (shapes.cpp) in lanes: sphere_outward() where |m|^2
+    // lies in [r^2 / 4, 4 r^2], frustum_outward() where rho^2 <= 1e20, then
+    // face(); plane_normal(). The other lanes (a sphere's band, a frustum's
+    // point beyond the domain) through the scalar hit_normal().
     const Material& mt = o0.mat;
     mc = splat(mt.color);
     diffuse = f4_of(mt.diffuse);
@@ -149,10 +154,29 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       front = dot(out, D) < f4_of(0.0f);
       N = select(front, out, V4{-out.x, -out.y, -out.z});
     } else {
-      V4 m = (splat(org) - A) + D * T4;
-      f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
-      u32 ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
-      V4 out = m * (1.0f / lane_sqrt(len2));
+      V4 out;
+      u32 ok;
+      if (kind0 == kSphere) {
+        V4 m = (splat(org) - A) + D * T4;
+        f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
+        ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
+        out = m * (1.0f / lane_sqrt(len2));
+      } else {
+        // A cylinder's or cone's side: the axial part of q = org - a + t dir
+        // taken out, the slope's c.x times rho back along the axis; the caps:
+        // +-axis.
+        V4 axis = splat(sh.b);
+        V4 q = (splat(org) - A) + D * T4;
+        V4 pPerp = q - axis * dot(q, axis);
+        f4 rho2 = dot(pPerp, pPerp);
+        ok = lane_bits(rho2 <= f4_of(1e20f));
+        V4 a = pPerp - axis * (f4_of(sh.c.x) * lane_sqrt(rho2));
+        f4 len2 = dot(a, a);
+        V4 side = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), axis); // normalize
+        V4 cap = select(piece == i4_of(kFrustumTop), axis, V4{-axis.x, -axis.y, -axis.z});
+        out = select(piece == i4_of(kFrustumSide), side, cap);
+        ok |= lane_bits(piece != i4_of(kFrustumSide));
+      }
       front = dot(out, D) < f4_of(0.0f);
       N = select(front, out, V4{-out.x, -out.y, -out.z});
       for (u32 q = lanes & ~ok; q; q &= q - 1) {
@@ -168,10 +192,11 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       }
     }
     *(i4*)frontOf = front;
+    bool flat = kind0 == kPlane || kind0 == kTriangle, solid = closed_convex(sh);
     for (int k = 0; k < 4; ++k) {
-      bool f = frontOf[k] != 0 || kind0 != kSphere;
-      range[k] = f ? foreground & ~self : foreground;
-      inside |= (u32)!f << k; // a sphere is closed and convex
+      bool f = frontOf[k] != 0;
+      range[k] = f || flat ? foreground & ~self : foreground;
+      inside |= (u32)(!f && solid) << k;
     }
   } else {
     Lanes3 dirs;

@@ -111,7 +111,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   int first = __builtin_ctz(lanes);
   const Object* obj[4];
   alignas(16) i32 frontOf[4];
-  u32 range[4], inside = 0;
+  alignas(16) u32 range[4];
+  u32 inside = 0;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
   V4 mc, N;
   f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior, roughness, f0;
@@ -192,12 +193,10 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       }
     }
     *(i4*)frontOf = front;
-    bool flat = kind0 == kPlane || kind0 == kTriangle, solid = closed_convex(sh);
-    for (int k = 0; k < 4; ++k) {
-      bool f = frontOf[k] != 0;
-      range[k] = f || flat ? foreground & ~self : foreground;
-      inside |= (u32)(!f && solid) << k;
-    }
+    bool flat = kind0 == kPlane || kind0 == kTriangle;
+    *(i4*)range =
+        front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
+    inside = closed_convex(sh) ? ~lane_bits(front) & 15 : 0;
   } else {
     Lanes3 dirs;
     dirs.set(D);

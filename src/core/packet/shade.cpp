@@ -52,6 +52,40 @@ inline void columns(const float* const r[4], f4 out[4]) {
   out[3] = __builtin_ia32_movhlps(cd1, ab1);
 }
 
+// The columns a, b, c, d as rows: out[k] = {a[k], b[k], c[k], d[k]}.
+inline void rows(f4 a, f4 b, f4 c, f4 d, f4 out[4]) {
+  f4 ab0 = __builtin_ia32_unpcklps(a, b), cd0 = __builtin_ia32_unpcklps(c, d);
+  f4 ab1 = __builtin_ia32_unpckhps(a, b), cd1 = __builtin_ia32_unpckhps(c, d);
+  out[0] = __builtin_ia32_movlhps(ab0, cd0);
+  out[1] = __builtin_ia32_movhlps(cd0, ab0);
+  out[2] = __builtin_ia32_movlhps(ab1, cd1);
+  out[3] = __builtin_ia32_movhlps(cd1, ab1);
+}
+
+// Each lane's Pending ray and weight (its first 28 bytes, Ray then weight)
+// as two rows of four floats: lane k's at row[2 k], row[2 k + 1].
+static_assert(sizeof(Ray) == 24 && __builtin_offsetof(Pending, weight) == 24 &&
+                  __builtin_offsetof(Pending, skip) == 28,
+              "Pending starts with its ray, weight and skip");
+struct PendingRows {
+  alignas(16) f4 row[8];
+  void set(V4 o, V4 d, f4 w) {
+    f4 lo[4], hi[4];
+    rows(o.x, o.y, o.z, d.x, lo);
+    rows(d.y, d.z, w, w, hi);
+    for (int k = 0; k < 4; ++k) {
+      row[2 * k] = lo[k];
+      row[2 * k + 1] = hi[k];
+    }
+  }
+  // Lane k's as a Pending with the given skip and pastGlass.
+  void put(int k, Pending& p, u32 skip, bool glass) const {
+    __builtin_memcpy(&p, &row[2 * k], 32);
+    p.skip = skip;
+    p.pastGlass = glass;
+  }
+};
+
 // A V4 stored lane by lane: v[c][k] is component c of lane k.
 struct Lanes3 {
   alignas(16) float v[3][4];
@@ -270,16 +304,14 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     u32 castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
     *(f4*)dR = dot(R, N);
-    Lanes3 dirR, orgR, dirT, orgT;
-    dirR.set(R);
-    orgR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off));
+    PendingRows rayR, rayT;
+    rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, one * *(f4*)fR);
     if (castT) {
       V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(a, a);
       V4 T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
       *(f4*)dT = dot(T, N);
-      dirT.set(T);
-      orgT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off));
+      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
     }
     for (u32 q = castR | castT; q; q &= q - 1) {
       int k = __builtin_ctz(q);
@@ -290,14 +322,13 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
                      : 0;
       if (castR >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-        root[k].child[1] = Pending{Ray{orgR.lane(k), dirR.lane(k)}, 1.0f * fR[k], skip, false};
+        rayR.put(k, root[k].child[1], skip, false);
         waiting[k] |= 1u << (kRootSlot + 1);
         ++ctx.stats.secondary;
       }
       if (castT >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-        root[k].child[0] =
-            Pending{Ray{orgT.lane(k), dirT.lane(k)}, 1.0f * obj[k]->mat.transmit, skip, true};
+        rayT.put(k, root[k].child[0], skip, true);
         waiting[k] |= 1u << kRootSlot;
         ++ctx.stats.secondary;
       }

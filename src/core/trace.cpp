@@ -182,7 +182,7 @@ constexpr int kFindHit = -2;
 // so that intro.exe holds one copy of the nearest-hit search (a second,
 // inlined into trace(), cost 430 packed bytes).
 //
-// Resume (trace_children()): the root (a primary ray's node, depth 1,
+// Resume (trace_children4(), one lane at a time): the root (a primary ray's node, depth 1,
 // weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
 // `root` holds its waiting children and its share of the sum. A template
 // argument, so that trace() and trace_hit() keep the loop without the

@@ -97,7 +97,7 @@ constexpr float kSpecExp = 16.0f;
 // as trace() would. The scalar primary tracer (scalar/primary.cpp) and the
 // tests shade through here; the packet tracer (packet/packet.h) finds first
 // hits its own way, shades them four at once (packet/shade.h) and traces
-// each lane's secondary rays through trace_children() below.
+// each lane's secondary rays through trace_children4() below.
 RT64K_HOT_ABI Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth,
                              float weight);
 // A secondary ray waiting for its turn (trace.cpp's trace_tree): where it

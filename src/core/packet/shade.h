@@ -8,12 +8,12 @@
 // the same order per lane as trace_tree's (packet/lanes.h: a four-lane copy
 // of a formula rounds like the scalar one), Phong's power through
 // rt_pow4() and Cook-Torrance's exp through rt_exp_nonpositive4()
-// (packet/pow4.h). The normals of a packet whose lanes all see one sphere,
-// plane or triangle are computed in lanes, others per lane by the scalar
+// (packet/pow4.h). The normals of a packet whose lanes all see one object
+// are computed in lanes, a packet of mixed objects' per lane by the scalar
 // hit_normal(); each shadow ray's bound test per lane (shadow_mask(),
 // trace.h), and where a bound is met its objects through the scalar
 // shadow_objects(). Each lane's children then go
-// to the scalar tree through trace_children(). So colour bits, records and
+// to the scalar tree through trace_children4(). So colour bits, records and
 // ray counts are trace_hit's (tests/test_shade4.cpp).
 #pragma once
 #include "packet/lanes.h"

@@ -283,4 +283,68 @@ TEST(Shade4, RandomCamerasAndFractionalPixelsMatchPerLane) {
   EXPECT_GT(c.mixed, 1000);
 }
 
+// Packets whose lanes all see one cylinder or cone (shade15: their normals
+// in lanes, frustum_outward()'s steps): sides and both caps, from outside
+// and from inside the solid, at cameras around both scenes' frustums.
+TEST(Shade4, OneFrustumPacketsMatchPerLaneOnSidesAndCaps) {
+  std::mt19937 rng(1515);
+  std::uniform_real_distribution<float> tt(0.0f, 64.0f), pos(-1.0f, 1.0f), frac(0.0f, 1.0f);
+  std::uniform_int_distribution<int> lanes(1, 4);
+  const int w = 64, h = 48;
+  Counts c;
+  long piece[3] = {0, 0, 0}, packets = 0;
+  for (int frame = 0; frame < 48; ++frame) {
+    Scene s;
+    build_timeline_scene(s, tt(rng));
+    int frustums[kMaxObjects], nf = 0;
+    for (int i = 0; i < s.numForeground; ++i)
+      if (s.objects[i].shape.kind == kCylinder || s.objects[i].shape.kind == kCone)
+        frustums[nf++] = i;
+    ASSERT_GT(nf, 0);
+    for (int cam = 0; cam < 4; ++cam) {
+      // Looking at a frustum's middle from around it (a quarter of the
+      // cameras inside it, near its axis), above and below its caps.
+      const Shape& sh = s.objects[frustums[(frame + cam) % nf]].shape;
+      Vec3 mid = sh.a + sh.b * (0.5f * sh.h);
+      float d = cam == 0 ? 0.2f * rt_max(sh.r0, sh.r1) : 2.0f + 4.0f * frac(rng);
+      s.camera.pos = mid + normalize(v3(pos(rng), pos(rng), pos(rng))) * d;
+      s.camera.target = mid + v3(pos(rng), pos(rng), pos(rng)) * (0.5f * sh.h);
+      CameraRays cr = camera_rays(s, w, h);
+      float ox = frac(rng), oy = frac(rng);
+      std::vector<int> ids(w * h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          ids[y * w + x] = first_hit_object(s, primary_ray(cr, (float)x + ox, (float)y + oy));
+      for (int y = 0; y + 1 < h; y += 2)
+        for (int x = 0; x + 1 < w; x += 2) {
+          int i = ids[y * w + x];
+          if (i < 0 || (s.objects[i].shape.kind != kCylinder && s.objects[i].shape.kind != kCone))
+            continue;
+          if (ids[y * w + x + 1] != i || ids[(y + 1) * w + x] != i || ids[(y + 1) * w + x + 1] != i)
+            continue;
+          float xs[4], ys[4];
+          for (int k = 0; k < 4; ++k) {
+            xs[k] = (float)(x + (k & 1)) + ox;
+            ys[k] = (float)(y + (k >> 1)) + oy;
+            Hit hk;
+            first_hit(s, primary_ray(cr, xs[k], ys[k]), hk);
+            ++piece[hk.piece < 3 ? hk.piece : 0];
+          }
+          compare_lanes(s, cr, xs, ys, lanes(rng), c);
+          ++packets;
+        }
+    }
+  }
+  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
+  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
+  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  EXPECT_EQ(c.mixed, 0);
+  EXPECT_GT(packets, 50000);
+  // Hit::piece of a frustum (shapes.cpp): 0 the side, 1 the base, 2 the top cap.
+  EXPECT_GT(piece[0], 150000);
+  EXPECT_GT(piece[1], 30000);
+  EXPECT_GT(piece[2], 3000);
+  EXPECT_GT(c.backs, 50000); // from inside the solid
+}
+
 } // namespace

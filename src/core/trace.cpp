@@ -182,7 +182,7 @@ constexpr int kFindHit = -2;
 // so that intro.exe holds one copy of the nearest-hit search (a second,
 // inlined into trace(), cost 430 packed bytes).
 //
-// Resume (trace_children()): the root (a primary ray's node, depth 1,
+// Resume (trace_children4(), one lane at a time): the root (a primary ray's node, depth 1,
 // weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
 // `root` holds its waiting children and its share of the sum. A template
 // argument, so that trace() and trace_hit() keep the loop without the
@@ -399,9 +399,20 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
   return shadow_test(s, ray, dist, mask, code, exits);
 }
 
-Vec3 trace_children(TraceContext& ctx, const RootNode& root) {
+// The tree inlined (flatten: trace_tree<true> has no other caller), so that
+// its frame, register saves and per-scene masks are set up once a packet
+// rather than once a lane.
+__attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
+                                              PathRecord* paths, Vec3 color[4]) {
   Hit hit;
-  return trace_tree<true>(ctx, root.child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root);
+  for (; lanes; lanes &= lanes - 1) {
+    int k = __builtin_ctz(lanes);
+    if (paths) ctx.record = &paths[k];
+    if (root[k].waiting)
+      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root[k]);
+    else
+      color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
+  }
 }
 
 int first_hit_object(const Scene& scene, const Ray& ray) {

@@ -97,7 +97,7 @@ constexpr float kSpecExp = 16.0f;
 // as trace() would. The scalar primary tracer (scalar/primary.cpp) and the
 // tests shade through here; the packet tracer (packet/packet.h) finds first
 // hits its own way, shades them four at once (packet/shade.h) and traces
-// each lane's secondary rays through trace_children() below.
+// each lane's secondary rays through trace_children4() below.
 RT64K_HOT_ABI Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth,
                              float weight);
 // A secondary ray waiting for its turn (trace.cpp's trace_tree): where it
@@ -125,10 +125,13 @@ struct RootNode {
   u32 waiting;
   Vec3 sum;
 };
-// trace_hit() of a primary ray from after its root node: the children's
-// subtrees traced (appending their nodes to *ctx.record) and added to
-// root.sum in trace_hit's order; the pixel's colour, bit for bit trace_hit's.
-RT64K_HOT_ABI Vec3 trace_children(TraceContext& ctx, const RootNode& root);
+// trace_hit() of four primary rays from after their root nodes: for each
+// lane k of `lanes` (bits), in order, the children's subtrees of root[k]
+// traced (appending their nodes to paths[k] when paths is set, which holds
+// the root's node already) and added to root[k].sum in trace_hit's order;
+// color[k] the pixel's colour, bit for bit trace_hit's.
+RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
+                                   PathRecord* paths, Vec3 color[4]);
 // Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
 // may meet object i (of those in `range`) before the light, judged by its
 // bound (conservative, as bound_mask). The segment is taken from the light's

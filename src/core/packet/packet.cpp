@@ -309,23 +309,18 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
   nearest_lanes(scene, cam.terms, d, live, st);
   TraceContext ctx{&scene, {0, 0, 0}, nullptr};
   // The misses here; the hits' shading points in lanes (packet/shade.h).
-  int id[4] = {-1, -1, -1, -1};
-  Hit hit[4];
-  u32 hits = 0;
-  for (u32 m = live; m; m &= m - 1) {
+  u32 hits = lane_bits(st.id >= i4_of(0)) & live;
+  ctx.stats.primary = 0x4332322132212110ull >> 4 * live & 15; // live's bits, counted
+  for (u32 m = live & ~hits; m; m &= m - 1) {
     int k = __builtin_ctz(m);
-    lane_hit(st, k, id[k], hit[k]);
     if (paths) {
       paths[k].count = 0;
       ctx.record = &paths[k];
     }
-    ++ctx.stats.primary;
-    if (id[k] >= 0)
-      hits |= 1u << k;
-    else
-      color[k] = trace_miss(ctx, 1, 1.0f);
+    color[k] = trace_miss(ctx, 1, 1.0f);
   }
-  if (hits) shade_primary4(ctx, cam.org, d.v, id, hit, hits, paths, color);
+  if (hits)
+    shade_primary4(ctx, cam.org, d.v, Hits4{st.t, st.id, st.piece, st.local}, hits, paths, color);
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
   stats->shadow += ctx.stats.shadow;

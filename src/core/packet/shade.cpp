@@ -9,6 +9,11 @@
 
 namespace {
 
+// Hit::piece of a frustum's hit (shapes.cpp's enum, which the header does
+// not export): the side, the base cap, the top cap. test_shade4's caps and
+// sides check them.
+constexpr i32 kFrustumSide = 0, kFrustumTop = 2;
+
 // Three float lanes: a Vec3 in each of four lanes.
 struct V4 {
   f4 x, y, z;
@@ -46,6 +51,40 @@ inline void columns(const float* const r[4], f4 out[4]) {
   out[2] = __builtin_ia32_movlhps(ab1, cd1);
   out[3] = __builtin_ia32_movhlps(cd1, ab1);
 }
+
+// The columns a, b, c, d as rows: out[k] = {a[k], b[k], c[k], d[k]}.
+inline void rows(f4 a, f4 b, f4 c, f4 d, f4 out[4]) {
+  f4 ab0 = __builtin_ia32_unpcklps(a, b), cd0 = __builtin_ia32_unpcklps(c, d);
+  f4 ab1 = __builtin_ia32_unpckhps(a, b), cd1 = __builtin_ia32_unpckhps(c, d);
+  out[0] = __builtin_ia32_movlhps(ab0, cd0);
+  out[1] = __builtin_ia32_movhlps(cd0, ab0);
+  out[2] = __builtin_ia32_movlhps(ab1, cd1);
+  out[3] = __builtin_ia32_movhlps(cd1, ab1);
+}
+
+// Each lane's Pending ray and weight (its first 28 bytes, Ray then weight)
+// as two rows of four floats: lane k's at row[2 k], row[2 k + 1].
+static_assert(sizeof(Ray) == 24 && __builtin_offsetof(Pending, weight) == 24 &&
+                  __builtin_offsetof(Pending, skip) == 28,
+              "Pending starts with its ray, weight and skip");
+struct PendingRows {
+  alignas(16) f4 row[8];
+  void set(V4 o, V4 d, f4 w) {
+    f4 lo[4], hi[4];
+    rows(o.x, o.y, o.z, d.x, lo);
+    rows(d.y, d.z, w, w, hi);
+    for (int k = 0; k < 4; ++k) {
+      row[2 * k] = lo[k];
+      row[2 * k + 1] = hi[k];
+    }
+  }
+  // Lane k's as a Pending with the given skip and pastGlass.
+  void put(int k, Pending& p, u32 skip, bool glass) const {
+    __builtin_memcpy(&p, &row[2 * k], 32);
+    p.skip = skip;
+    p.pastGlass = glass;
+  }
+};
 
 // A V4 stored lane by lane: v[c][k] is component c of lane k.
 struct Lanes3 {
@@ -94,29 +133,35 @@ __attribute__((noinline)) f4 cook_torrance4(V4 N, V4 I, V4 L, f4 roughness, f4 f
 
 } // namespace
 
-void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4], Hit hit[4],
-                    u32 lanes, PathRecord* paths, Vec3 color[4]) {
+void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h, u32 lanes,
+                    PathRecord* paths, Vec3 color[4]) {
   const Scene& s = *ctx.scene;
+  alignas(16) i32 id[4];
+  *(i4*)id = h.id;
+  // Each lane's Hit where the scalar hit_normal() needs one (a sphere's band
+  // lanes, mixed packets); the one-object normals take t and piece in lanes.
+  Hit hit[4];
   V4 D = {dir[0], dir[1], dir[2]};
   int first = __builtin_ctz(lanes);
   const Object* obj[4];
   alignas(16) i32 frontOf[4];
-  u32 range[4], inside = 0;
+  alignas(16) u32 range[4];
+  u32 inside = 0;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
   V4 mc, N;
   f4 T4, size, diffuse, specular, shininess, reflect, transmit, ior, roughness, f0;
   i4 front;
   const Object& o0 = s.objects[id[first]];
-  i4 ids;
-  __builtin_memcpy(&ids, id, 16); // lanes outside `lanes` do not count
+  i4 ids = h.id; // lanes outside `lanes` do not count
+  i4 held = lanes_of(lanes);
   ShapeKind kind0 = o0.shape.kind;
-  bool uniform = (kind0 == kSphere || kind0 == kPlane || kind0 == kTriangle) &&
-                 (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
+  bool uniform = (lane_bits(ids == i4_of(id[first])) & lanes) == lanes;
   if (uniform) {
-    // Every lane sees one sphere, plane or triangle (most calls): the material in
-    // every lane, and hit_normal() (shapes.cpp) in lanes: sphere_outward()
-    // where |m|^2 lies in [r^2 / 4, 4 r^2], then face(); plane_normal().
-    // The other lanes (a sphere's band) through the scalar hit_normal().
+    // Every lane sees one object (most calls): the material in every lane,
+    // and hit_normal() (shapes.cpp) in lanes: sphere_outward() where |m|^2
+    // lies in [r^2 / 4, 4 r^2], frustum_outward() where rho^2 <= 1e20, then
+    // face(); plane_normal(). The other lanes (a sphere's band, a frustum's
+    // point beyond the domain) through the scalar hit_normal().
     const Material& mt = o0.mat;
     mc = splat(mt.color);
     diffuse = f4_of(mt.diffuse);
@@ -128,13 +173,11 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     roughness = f4_of(mt.roughness);
     f0 = f4_of(mt.f0);
     size = f4_of(o0.shape.size);
-    i4 piece;
-    for (int k = 0; k < 4; ++k) {
-      int src = lanes >> k & 1 ? k : first;
+    // The lanes outside `lanes` repeat the first lane's hit.
+    T4 = held ? h.t : f4_of(h.t[first]);
+    i4 piece = held ? h.piece : i4_of(h.piece[first]);
+    for (int k = 0; k < 4; ++k)
       obj[k] = &o0;
-      T4[k] = hit[src].t;
-      piece[k] = hit[src].piece;
-    }
     const Shape& sh = o0.shape;
     V4 A = splat(sh.a);
     u32 self = 1u << id[first];
@@ -146,14 +189,36 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       front = dot(out, D) < f4_of(0.0f);
       N = select(front, out, V4{-out.x, -out.y, -out.z});
     } else {
-      V4 m = (splat(org) - A) + D * T4;
-      f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
-      u32 ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
-      V4 out = m * (1.0f / lane_sqrt(len2));
+      V4 out;
+      u32 ok;
+      if (kind0 == kSphere) {
+        V4 m = (splat(org) - A) + D * T4;
+        f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
+        ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
+        out = m * (1.0f / lane_sqrt(len2));
+      } else {
+        // A cylinder's or cone's side: the axial part of q = org - a + t dir
+        // taken out, the slope's c.x times rho back along the axis; the caps:
+        // +-axis.
+        V4 axis = splat(sh.b);
+        V4 q = (splat(org) - A) + D * T4;
+        V4 pPerp = q - axis * dot(q, axis);
+        f4 rho2 = dot(pPerp, pPerp);
+        ok = lane_bits(rho2 <= f4_of(1e20f));
+        V4 a = pPerp - axis * (f4_of(sh.c.x) * lane_sqrt(rho2));
+        f4 len2 = dot(a, a);
+        V4 side = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), axis); // normalize
+        V4 cap = select(piece == i4_of(kFrustumTop), axis, V4{-axis.x, -axis.y, -axis.z});
+        out = select(piece == i4_of(kFrustumSide), side, cap);
+        ok |= lane_bits(piece != i4_of(kFrustumSide));
+      }
       front = dot(out, D) < f4_of(0.0f);
       N = select(front, out, V4{-out.x, -out.y, -out.z});
       for (u32 q = lanes & ~ok; q; q &= q - 1) {
         int k = __builtin_ctz(q);
+        hit[k].t = h.t[k];
+        hit[k].piece = (u8)h.piece[k];
+        hit[k].local = h.local[k];
         hit_normal(sh, Ray{org, Vec3{D.x[k], D.y[k], D.z[k]}}, hit[k]);
         N.x[k] = hit[k].normal.x;
         N.y[k] = hit[k].normal.y;
@@ -162,16 +227,18 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       }
     }
     *(i4*)frontOf = front;
-    for (int k = 0; k < 4; ++k) {
-      bool f = frontOf[k] != 0 || kind0 != kSphere;
-      range[k] = f ? foreground & ~self : foreground;
-      inside |= (u32)!f << k; // a sphere is closed and convex
-    }
+    bool flat = kind0 == kPlane || kind0 == kTriangle;
+    *(i4*)range =
+        front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
+    inside = closed_convex(sh) ? ~lane_bits(front) & 15 : 0;
   } else {
     Lanes3 dirs;
     dirs.set(D);
     for (u32 q = lanes; q; q &= q - 1) {
       int k = __builtin_ctz(q);
+      hit[k].t = h.t[k];
+      hit[k].piece = (u8)h.piece[k];
+      hit[k].local = h.local[k];
       hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
     }
     // Each lane's object, material and hit as columns (the lanes outside
@@ -193,14 +260,14 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       range[k] = flat || hit[src].front ? foreground & ~(1u << id[src]) : foreground;
       inside |= (u32)(!hit[src].front && closed_convex(sh)) << k;
     }
-    f4 c[4], sp[4], gl[4], h[4];
+    f4 c[4], sp[4], gl[4], hc[4];
     columns(rowC, c);
     columns(rowS, sp);
     columns(rowI, gl);
-    columns(rowH, h);
+    columns(rowH, hc);
     mc = V4{c[0], c[1], c[2]};
-    N = V4{h[1], h[2], h[3]};
-    T4 = h[0];
+    N = V4{hc[1], hc[2], hc[3]};
+    T4 = hc[0];
     diffuse = c[3];
     specular = sp[0];
     shininess = sp[1];
@@ -212,7 +279,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     front = *(i4*)frontOf;
   }
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
-  i4 live = lanes_of(lanes);
+  i4 live = held;
   V4 p = splat(org) + D * T4;
   V4 col = splat(s.ambient) * mc;
   f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
@@ -237,16 +304,14 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
     u32 castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
     *(f4*)dR = dot(R, N);
-    Lanes3 dirR, orgR, dirT, orgT;
-    dirR.set(R);
-    orgR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off));
+    PendingRows rayR, rayT;
+    rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, one * *(f4*)fR);
     if (castT) {
       V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(a, a);
       V4 T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
       *(f4*)dT = dot(T, N);
-      dirT.set(T);
-      orgT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off));
+      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
     }
     for (u32 q = castR | castT; q; q &= q - 1) {
       int k = __builtin_ctz(q);
@@ -257,14 +322,13 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
                      : 0;
       if (castR >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-        root[k].child[1] = Pending{Ray{orgR.lane(k), dirR.lane(k)}, 1.0f * fR[k], skip, false};
+        rayR.put(k, root[k].child[1], skip, false);
         waiting[k] |= 1u << (kRootSlot + 1);
         ++ctx.stats.secondary;
       }
       if (castT >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-        root[k].child[0] =
-            Pending{Ray{orgT.lane(k), dirT.lane(k)}, 1.0f * obj[k]->mat.transmit, skip, true};
+        rayT.put(k, root[k].child[0], skip, true);
         waiting[k] |= 1u << kRootSlot;
         ++ctx.stats.secondary;
       }
@@ -336,14 +400,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4
       PathRecord& rec = paths[k];
       rec.node[0] = (u32)(id[k] + 1) | bits[k];
       rec.count = 1;
-      ctx.record = &rec;
     }
-    if (waiting[k]) {
-      root[k].waiting = waiting[k];
-      root[k].sum = sum.lane(k);
-      color[k] = trace_children(ctx, root[k]);
-    } else {
-      color[k] = sum.lane(k) * 1.0f; // sum * (1 / rootWeight)
-    }
+    root[k].waiting = waiting[k];
+    root[k].sum = sum.lane(k);
   }
+  trace_children4(ctx, root, lanes, paths, color);
 }

@@ -8,25 +8,32 @@
 // the same order per lane as trace_tree's (packet/lanes.h: a four-lane copy
 // of a formula rounds like the scalar one), Phong's power through
 // rt_pow4() and Cook-Torrance's exp through rt_exp_nonpositive4()
-// (packet/pow4.h). The normals of a packet whose lanes all see one sphere,
-// plane or triangle are computed in lanes, others per lane by the scalar
+// (packet/pow4.h). The normals of a packet whose lanes all see one object
+// are computed in lanes, a packet of mixed objects' per lane by the scalar
 // hit_normal(); each shadow ray's bound test per lane (shadow_mask(),
 // trace.h), and where a bound is met its objects through the scalar
 // shadow_objects(). Each lane's children then go
-// to the scalar tree through trace_children(). So colour bits, records and
+// to the scalar tree through trace_children4(). So colour bits, records and
 // ray counts are trace_hit's (tests/test_shade4.cpp).
 #pragma once
 #include "packet/lanes.h"
 #include "trace.h"
 
-// For the lanes k of `lanes` (bits; each id[k] >= 0), the primary ray from
-// org along unit (dir[0][k], dir[1][k], dir[2][k]) hitting object id[k] at
-// hit[k] (t, piece, local from the first-hit search): color[k] =
-// trace_hit(ctx, ray, id[k], hit[k], 1, 1). All four id[] are read (set
-// those outside `lanes` to anything, e.g. -1). When `paths`
-// is set, paths[k] (count 0 on entry) receives the lane's record. Rays are
-// counted in ctx.stats as trace_hit counts them. hit[k].normal and
-// hit[k].front are left unset for some lanes (their normals are computed in
-// lanes).
-RT64K_HOT_ABI void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const int id[4],
-                                  Hit hit[4], u32 lanes, PathRecord* paths, Vec3 color[4]);
+// The first hits of four primary rays as the packet tracer's nearest-hit
+// search leaves them, in lanes: lane k sees object id[k] (-1: nothing) at
+// t[k], with intersect_t()'s piece[k] and local[k].
+struct Hits4 {
+  f4 t;
+  i4 id, piece;
+  f4 local;
+};
+
+// For the lanes k of `lanes` (bits; each h.id[k] >= 0), the primary ray
+// from org along unit (dir[0][k], dir[1][k], dir[2][k]) hitting object
+// h.id[k] (Hit t, piece and local from h): color[k] = trace_hit(ctx, ray,
+// id, hit, 1, 1). All four lanes of h are read (those outside `lanes` may
+// hold anything). When `paths` is set, paths[k] receives the lane's record
+// (its count is set here). Rays are counted in ctx.stats as trace_hit
+// counts them.
+RT64K_HOT_ABI void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h,
+                                  u32 lanes, PathRecord* paths, Vec3 color[4]);

@@ -823,11 +823,7 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
     v16c out0 = __builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
     q0 += d0;
     q1 += d1;
-    if (size == 2) {
-      *(u64_unaligned*)row = (u64)((v2ll)out0)[0];
-      continue;
-    }
-    *(v4i_unaligned*)row = (v4i)out0;
+    *(v4i_unaligned*)row = (v4i)out0; // (s = 1 returned above)
     if (size == 4) continue;
     *(v4i_unaligned*)(row + 4) =
         (v4i)__builtin_ia32_packuswb128(round_even(q2, shift, one), round_even(q3, shift, one));

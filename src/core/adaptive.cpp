@@ -532,13 +532,13 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];
     const Sample &c01 = n.bottom[0], &c11 = n.bottom[w];
-    bool small = is_small(f, w, h);
-    // adaptive_decide(), with the rules below in its branches.
+    // adaptive_decide(), with the rules below in its branches (is_small only
+    // where a rule asks: not for most copied and interpolated blocks).
     BlockKind kind = kInterpolated;
     if (!same_records(c00.path, c10.path, c01.path, c11.path)) {
       // Small blocks whose records differ: interpolated where the corners'
       // colours are close (kSmallContrast).
-      int limit = small                                        ? kSmallContrast[0]
+      int limit = is_small(f, w, h)                            ? kSmallContrast[0]
                   : w <= 2 * f.minBlock && h <= 2 * f.minBlock ? kSmallContrast[1]
                                                                : -1;
       if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(c00, c10, c01, c11, limit))
@@ -547,7 +547,8 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       kind = kCopied;
     } else if (f.mode != kModeAdaptive ||
                // The four records are equal, so c00's stands for all.
-               (!low_contrast(c00, c10, c01, c11, kGlassContrast[small]) && sees_glass(f, c00))) {
+               (!low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
+                sees_glass(f, c00))) {
       kind = kSplit;
     }
     if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
@@ -567,7 +568,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       n.left = open_column(c, n.x0);
       n.right = open_column(c, n.x1); // (the same array for a one-pixel-wide image)
     }
-    if (small) {
+    if (is_small(f, w, h)) {
       n.kind = kTraced;
       trace_block(c, n, false);
       continue;

@@ -525,9 +525,9 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
 // traced per pixel.
 RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
-  int used = c.used, held = 0, i = 0;
+  int used = c.used, held = 0, i = 0, end = count; // (base: up to the kBaseGroup-th held)
   bool base = nodes == c.base;
-  for (; i < count && held < (base ? kBaseGroup : kGroup); ++i) {
+  for (; i < end; ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
     const Sample &c00 = n.top[0], &c10 = n.top[w];
@@ -562,7 +562,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       continue;
     }
     if (base) {
-      ++held;
+      if (++held == kBaseGroup) end = i + 1;
       open_side(n.top, w);
       open_side(n.bottom, w);
       n.left = open_column(c, n.x0);

@@ -293,3 +293,92 @@ TEST(AdaptiveFrame, OnlyTheFirstScratchesPerThreadAreWritten) {
     EXPECT_GT(firstChanged, 1000u) << threads << " threads";
   }
 }
+
+// The children of split blocks go through process_group in groups of up to
+// kGroup = 32 (round eleven, adapt15; was 16): a band's scratch holds, per
+// level, the inner lines of 32 split blocks. Base blocks of 64 px always
+// split down to 8 px (kMaxInterpolated), so the groups of 32 px and 16 px
+// children are full of split blocks. Rendered by 1 thread into a buffer of
+// a seeded byte pattern: the scratch is written past what groups of 16
+// needed (17 columns of 65, 8 base blocks' lines, 16 blocks' lines a level),
+// no byte past the first scratch changes but the queue's, the picture is
+// render_frame's with 3 threads, no sample is traced twice and every traced
+// pixel is the full trace's. Fails with band_scratch sized for groups of 16
+// (the scratch runs into the second one) and with kGroup = 16 (not written
+// past that size).
+TEST(AdaptiveFrame, ChildGroupsOfThirtyTwoStayInTheirScratch) {
+  const int w = 400, h = 300, block = 64;
+  int gridH = (h - 1 + block - 1) / block + 1, bands = gridH - 1;
+  size_t count = size_t(adaptive_corner_count(w, h, block));
+  size_t lines = size_t(gridH) * size_t(w);
+  size_t queue = (8 + 2 * size_t(bands) + sizeof(CornerSample) - 1) / sizeof(CornerSample);
+  size_t scratch = (count - lines - queue) / size_t(bands);
+  ASSERT_EQ(lines + scratch * size_t(bands) + queue, count);
+  size_t sixteen = 17 * (block + 1) + 8 * 2 * (block + 1); // columns, base level
+  for (int s = (block + 1) / 2; s >= 2; s = (s + 1) / 2)
+    sixteen += 16 * 2 * size_t(s + 1);
+  for (double t : {13.0, 44.0}) {
+    Scene s;
+    build_timeline_scene(s, t);
+    std::vector<CornerSample> corners(count);
+    auto* bytes = reinterpret_cast<uint8_t*>(corners.data());
+    Lcg rng{uint32_t(t * 4)};
+    for (size_t i = 0; i < count * sizeof(CornerSample); ++i)
+      bytes[i] = (uint8_t)rng.next();
+    std::vector<uint8_t> before(bytes, bytes + count * sizeof(CornerSample));
+    Image img(w, h);
+    AdaptiveFrame f{};
+    f.scene = &s;
+    f.fb = img.pixels.data();
+    f.width = f.stride = w;
+    f.height = h;
+    f.baseBlock = block;
+    f.minBlock = 2;
+    f.mode = kModeAdaptive;
+    f.corners = corners.data();
+    adaptive_begin(f);
+    RayStats stats{0, 0, 0};
+    for (int b; (b = adaptive_take(f)) != kAdaptiveDone;)
+      if (b != kAdaptiveWait) adaptive_run(f, b, &stats);
+
+    size_t first = lines * sizeof(CornerSample), end = (lines + scratch) * sizeof(CornerSample);
+    size_t last = 0, past = 0;
+    for (size_t i = first; i < end; ++i)
+      if (bytes[i] != before[i]) last = i;
+    for (size_t i = end; i < (count - queue) * sizeof(CornerSample); ++i)
+      past += bytes[i] != before[i];
+    EXPECT_GT(last, first + sixteen * sizeof(CornerSample)) << "t=" << t;
+    EXPECT_EQ(past, 0u) << "t=" << t;
+
+    Image threaded(w, h), full(w, h), marked(w, h);
+    RenderOptions opt;
+    opt.block = block;
+    opt.threads = 3;
+    render_frame(s, threaded, opt, nullptr);
+    EXPECT_EQ(img.pixels, threaded.pixels) << "t=" << t;
+    std::vector<uint8_t> kinds(size_t(w) * size_t(h), kUnset);
+    opt.threads = 1;
+    opt.kinds = kinds.data();
+    RayStats marks;
+    render_frame(s, marked, opt, &marks);
+    RenderOptions fo;
+    fo.mode = Mode::Full;
+    fo.threads = 2;
+    render_frame(s, full, fo, nullptr);
+    uint64_t samples = 0, twice = 0, traced = 0, mismatched = 0;
+    for (size_t i = 0; i < kinds.size(); ++i) {
+      int n = kinds[i] >> kSampleCountShift;
+      samples += uint64_t(n);
+      twice += n > 1;
+      if ((kinds[i] & kKindMask) != kTraced) continue;
+      ++traced;
+      mismatched += full.pixels[i] != marked.pixels[i];
+    }
+    EXPECT_EQ(twice, 0u) << "t=" << t;
+    EXPECT_EQ(samples, marks.primary) << "t=" << t;
+    EXPECT_EQ(samples, stats.primary) << "t=" << t;
+    EXPECT_GT(traced, uint64_t(w * h / 50)) << "t=" << t;
+    EXPECT_EQ(mismatched, 0u) << "t=" << t << " of " << traced << " traced pixels";
+    EXPECT_EQ(marked.pixels, img.pixels) << "t=" << t << ": with and without kinds map";
+  }
+}

@@ -8,9 +8,7 @@
 // same, bit for bit.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -225,77 +223,6 @@ TEST(AdaptiveEstimate, SameAsItsDefinition) {
   EXPECT_GT(estimated, 20000);
   EXPECT_GT(byColour, 20000);
   EXPECT_GT(byRecord, 20000);
-}
-
-// Round eleven's glass estimate ("E"): with the scene given,
-// adaptive_estimate also estimates where the colours are within 24/255 (not
-// 8) if the equal records see a transparent object at any node and hold no
-// highlight bit (bit 7 + 3i for light i) in any node. Seeded pairs against
-// that definition: channels within 30 of each other (both sides of 8 and
-// 24), nodes of 0-8 objects of scene 1 (ids 1-6, the two spheres glass) and
-// random shadow and highlight bits; without the scene, the 8/255 rule alone.
-TEST(AdaptiveEstimate, GlassWithoutHighlightUpToTwentyFour) {
-  Scene s;
-  build_timeline_scene(s, 13.0);
-  ASSERT_GT(s.numObjects, 2);
-  Lcg rng{1311};
-  int glassWide = 0, highlightWide = 0, opaqueWide = 0, close = 0, far = 0;
-  for (int iter = 0; iter < 200000; ++iter) {
-    CornerSample a, b, mid, before;
-    std::memset(&a, 0, sizeof a);
-    a.packed = 0xff000000u | (rng.next() & 0xffffffu);
-    b = a;
-    int span = 0;
-    for (int sh = 0; sh < 24; sh += 8) {
-      int ca = int(a.packed >> sh & 255);
-      int ch = ca + int(rng.next() % 61) - 30;
-      ch = ch < 0 ? 0 : ch > 255 ? 255 : ch;
-      span = std::max(span, std::abs(ch - ca));
-      b.packed = (b.packed & ~(255u << sh)) | uint32_t(ch) << sh;
-    }
-    a.path.count = (u8)(1 + rng.next() % kMaxPathNodes);
-    bool glass = false, highlight = false;
-    for (int i = 0; i < a.path.count; ++i) {
-      u32 id = rng.next() % (u32)(s.numObjects + 1); // 0: nothing hit
-      bool lit = rng.next() % 4 == 0;                // a highlight bit of a random light
-      u32 bits = lit ? 4u << (5 + 3 * (rng.next() % kMaxLights)) : 0;
-      bits |= (rng.next() % 4) << 5; // light 0's shadow code
-      a.path.node[i] = id | bits;
-      glass = glass || (id > 0 && s.objects[id - 1].mat.transmit > 0);
-      highlight = highlight || lit;
-    }
-    b.path = a.path;
-    if (rng.next() % 4 == 0) b.path.node[rng.next() % a.path.count] ^= 1u;
-    bool same = same_path(a.path, b.path);
-    bool expect = same && (span <= 8 || (span <= 24 && glass && !highlight));
-    std::memset(&mid, 0x5a, sizeof mid);
-    before = mid;
-    ASSERT_EQ(adaptive_estimate(a, b, mid, &s), expect) << "iter " << iter;
-    if (expect) {
-      ASSERT_TRUE(same_path(mid.path, a.path)) << "iter " << iter;
-      for (int sh = 0; sh < 24; sh += 8)
-        ASSERT_EQ(int(mid.packed >> sh & 255),
-                  (int(a.packed >> sh & 255) + int(b.packed >> sh & 255) + 1) / 2)
-            << "iter " << iter;
-    } else {
-      ASSERT_EQ(std::memcmp(&mid, &before, sizeof mid), 0) << "iter " << iter;
-    }
-    // Without the scene: the 8/255 rule only.
-    CornerSample plain;
-    ASSERT_EQ(adaptive_estimate(a, b, plain), same && span <= 8) << "iter " << iter;
-    if (same && span > 8 && span <= 24) {
-      glassWide += glass && !highlight;
-      highlightWide += glass && highlight;
-      opaqueWide += !glass;
-    }
-    close += same && span <= 8;
-    far += same && span > 24;
-  }
-  EXPECT_GT(glassWide, 5000); // each branch of the rule is exercised
-  EXPECT_GT(highlightWide, 5000);
-  EXPECT_GT(opaqueWide, 2000);
-  EXPECT_GT(close, 2000);
-  EXPECT_GT(far, 20000);
 }
 
 // A band runs in the first scratch no running band holds (adaptive_run):

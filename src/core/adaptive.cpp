@@ -72,44 +72,17 @@ constexpr u8 kSideOpen = 4;
 // flicker by the glass rule below.
 constexpr int kEstimateContrast = 8;
 
-// Round eleven ("E", docs/speed-vs-error.md, "Round eleven: the clean glass
-// rules, again"): where the two ends' equal records see a transparent
-// object and hold no highlight bit in any node, the midpoint is estimated
-// up to kGlassEstimateContrast / 255. Glass shows a minified image whose
-// soft shading between recorded edges needs no traced midpoint; a highlight
-// on or through glass does (its peak lies between ends on its flanks: at 24
-// without this exception the upper sphere's highlight became a dark hole).
-constexpr int kGlassEstimateContrast = 24;
-static_assert(kMaxLights == 4, "kHighlightBits: bit 7 + 3i for light i (trace.h)");
-constexpr u32 kHighlightBits = 4u << 5 | 4u << 8 | 4u << 11 | 4u << 14;
-
-// The record sees a transparent object and holds no highlight bit.
-RT64K_HOT_ABI bool glass_without_highlight(const Scene& s, const PathRecord& r) {
-  bool glass = false;
-  for (int i = 0; i < r.count; ++i) {
-    u32 node = r.node[i];
-    if (node & kHighlightBits) return false;
-    int id = (int)(node & 31) - 1;
-    glass |= id >= 0 && s.objects[id].mat.transmit > 0;
-  }
-  return glass;
-}
-
 // adaptive_estimate (inline in request_midpoint): the records compared as
 // in decide, the colours' per-channel differences with SSE2 (both
-// saturating differences, less the limit, saturating at 0). `scene` null:
-// kEstimateContrast only.
-inline bool estimate(const Sample& a, const Sample& b, Sample& mid, const Scene* scene) {
+// saturating differences, less kEstimateContrast, saturating at 0).
+inline bool estimate(const Sample& a, const Sample& b, Sample& mid) {
   v4i ca = {(i32)a.packed, 0, 0, 0}, cb = {(i32)b.packed, 0, 0, 0};
   v16c d =
       __builtin_ia32_psubusb128((v16c)ca, (v16c)cb) | __builtin_ia32_psubusb128((v16c)cb, (v16c)ca);
-  i32 l = kEstimateContrast * 0x01010101, g = kGlassEstimateContrast * 0x01010101;
-  v4i limits = {l, l, l, l}, glassLimits = {g, g, g, g};
-  bool wide = ((v4i)__builtin_ia32_psubusb128(d, (v16c)limits))[0] & 0xffffff;
-  if (wide && (!scene || (((v4i)__builtin_ia32_psubusb128(d, (v16c)glassLimits))[0] & 0xffffff)))
-    return false;
-  if (!same_records(a.path, b.path, b.path, b.path)) return false;
-  if (wide && !glass_without_highlight(*scene, a.path)) return false;
+  i32 l = kEstimateContrast * 0x01010101;
+  v4i limits = {l, l, l, l};
+  v16c over = __builtin_ia32_psubusb128(d, (v16c)limits);
+  if ((((v4i)over)[0] & 0xffffff) || !same_records(a.path, b.path, b.path, b.path)) return false;
   // Per channel (a + b + 1) / 2: the halves and the carry of the low bits.
   mid.packed = 0xff000000u | (((a.packed | b.packed) & 0x010101u) + (a.packed >> 1 & 0x7f7f7fu) +
                               (b.packed >> 1 & 0x7f7f7fu));
@@ -119,18 +92,16 @@ inline bool estimate(const Sample& a, const Sample& b, Sample& mid, const Scene*
 
 // A block whose corners see a transparent object (at any recorded depth) is
 // copied or interpolated only when no colour channel of its corners spans
-// more than kGlassContrast / 255, else split; at the minimum size it is
-// interpolated whatever the colours. Glass shows a minified image of what
-// lies behind and around it, whose edges partly go unrecorded (deeper than
-// kRecordDepth, or reflections weaker than kRecordWeight): most of the
-// flicker was in glass blocks interpolated from corners whose colours
-// differ. Measured in docs/speed-vs-error.md (before the third round: split
-// down to 4 px whatever the colours). Round nine: rays through glass are
-// recorded deeper (trace.h, kRecordWeightGlass), so the edges they see split
-// by records, and the limits rose from {16, 24} to {18, 64}. Round eleven
-// ("G"): the minimum size's limit 64 -> none (255): its equal-record glass
-// blocks span soft shading the records already bound.
-constexpr int kGlassContrast = 18;
+// more than kGlassContrast[0] / 255 (kGlassContrast[1] / 255 at the minimum
+// size), else split (traced per pixel at the minimum size). Glass shows a
+// minified image of what lies behind and around it, whose edges partly go
+// unrecorded (deeper than kRecordDepth, or reflections weaker than
+// kRecordWeight): most of the flicker was in glass blocks interpolated from
+// corners whose colours differ. Measured in docs/speed-vs-error.md (before
+// the third round: split down to 4 px whatever the colours). Round nine:
+// rays through glass are recorded deeper (trace.h, kRecordWeightGlass), so
+// the edges they see split by records, and the limits rose from {16, 24}.
+constexpr int kGlassContrast[2] = {18, 64};
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
@@ -338,9 +309,8 @@ RT64K_HOT_ABI void request_pixel(Context& c, int x, int y) {
 
 } // namespace
 
-bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid,
-                       const Scene* scene) {
-  return estimate(a, b, mid, scene);
+bool adaptive_estimate(const CornerSample& a, const CornerSample& b, CornerSample& mid) {
+  return estimate(a, b, mid);
 }
 
 namespace {
@@ -350,7 +320,7 @@ namespace {
 // kMaxInterpolated: c.large) or asked for.
 RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid, int len) {
   if (side[mid].state != kUnknown) return;
-  if (!c.large && estimate(side[0], side[len], side[mid], c.f->scene)) {
+  if (!c.large && estimate(side[0], side[len], side[mid])) {
     side[mid].state = kEstimated;
     return;
   }
@@ -577,7 +547,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       kind = kCopied;
     } else if (f.mode != kModeAdaptive ||
                // The four records are equal, so c00's stands for all.
-               (!is_small(f, w, h) && !low_contrast(c00, c10, c01, c11, kGlassContrast) &&
+               (!low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
                 sees_glass(f, c00))) {
       kind = kSplit;
     }

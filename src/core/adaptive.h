@@ -100,12 +100,10 @@ RT64K_HOT_ABI BlockKind adaptive_decide(const CornerSample& c00, const CornerSam
 
 // The midpoint of a block's side whose ends are a and b, estimated instead
 // of traced: when the records of a and b are equal and their colours differ
-// by at most kEstimateContrast (8) / 255 per channel, or (scene not null)
-// at most kGlassEstimateContrast (24) / 255 where that record sees a
-// transparent object of `scene` and holds no highlight bit (adaptive.cpp),
-// sets mid to their record and rounded mean colour and returns true.
+// by at most kEstimateContrast (8) / 255 per channel (adaptive.cpp), sets mid
+// to their record and rounded mean colour and returns true.
 RT64K_HOT_ABI bool adaptive_estimate(const CornerSample& a, const CornerSample& b,
-                                     CornerSample& mid, const Scene* scene = nullptr);
+                                     CornerSample& mid);
 
 // Number of CornerSample entries the caller's `corners` buffer needs for a
 // frame of this size and base block (baseBlock in 2..kMaxBaseBlock).

@@ -41,6 +41,37 @@ inline f4 load4(const float* p) {
   return r;
 }
 
+// Lane j of v in every lane (pshufd: one instruction, its source kept).
+template <int j> inline f4 lane_splat(f4 v) { return (f4)__builtin_ia32_pshufd((i4)v, j * 0x55); }
+template <int j> inline i4 lane_splat(i4 v) { return __builtin_ia32_pshufd(v, j * 0x55); }
+
+// shadow_mask() (trace.h) of four shadow rays (unit L and dist in lanes) to
+// light li for the bound in slot g + j: the slot's bit in each lane of objs
+// whose ray may meet it. fx, fy, fz, c, r: the slots g..g + 3 of
+// Scene::lightFX, lightFY, lightFZ, lightC and boundR; cpos: c > 0. Lane by
+// lane the operations of shadow_mask's, in its order.
+template <int g, int j>
+inline void shadow_bound(f4 fx, f4 fy, f4 fz, f4 c, f4 r, i4 cpos, V4 L, f4 tm, i4& objs) {
+  f4 zero = f4_of(0.0f);
+  f4 beta = lane_splat<j>(fx) * L.x + lane_splat<j>(fy) * L.y + lane_splat<j>(fz) * L.z;
+  i4 miss = (beta * beta < lane_splat<j>(c)) |
+            (lane_splat<j>(cpos) & ((beta < zero) | (beta - lane_splat<j>(r) >= tm)));
+  objs |= ~miss & i4_of(1 << (g + j));
+}
+// The foreground slots g..g + 3 (of s.numForeground) by shadow_bound().
+template <int g> inline void shadow_group(const Scene& s, int li, V4 L, f4 tm, i4& objs) {
+  static_assert(kMaxObjects == 8, "two groups of four slots");
+  f4 fx = *(const f4*)(s.lightFX[li] + g), fy = *(const f4*)(s.lightFY[li] + g);
+  f4 fz = *(const f4*)(s.lightFZ[li] + g), c = *(const f4*)(s.lightC[li] + g);
+  f4 r = *(const f4*)(s.boundR + g);
+  i4 cpos = c > f4_of(0.0f);
+  int n = s.numForeground - g;
+  shadow_bound<g, 0>(fx, fy, fz, c, r, cpos, L, tm, objs);
+  if (n > 1) shadow_bound<g, 1>(fx, fy, fz, c, r, cpos, L, tm, objs);
+  if (n > 2) shadow_bound<g, 2>(fx, fy, fz, c, r, cpos, L, tm, objs);
+  if (n > 3) shadow_bound<g, 3>(fx, fy, fz, c, r, cpos, L, tm, objs);
+}
+
 // The rows r[k] (four floats from row pointer k) as columns: out[c][k] = r[k][c].
 inline void columns(const float* const r[4], f4 out[4]) {
   f4 a = load4(r[0]), b = load4(r[1]), c = load4(r[2]), d = load4(r[3]);
@@ -362,28 +393,41 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
       term = mc * (diffuse * NdotL + spec) * splat(light.color);
     }
-    Lanes3 dirL, through;
-    dirL.set(L);
-    through.set(V4{one, one, one});
+    // The shadow rays' bound test (shadow_mask(), trace.h) four lanes a
+    // bound: lane k's beta, miss and hit bit as shadow_mask computes them for
+    // its ray; range holds foreground objects only, so the other slots are
+    // not tested.
+    i4 objs = i4_of(0);
+    f4 tm = *(f4*)dist;
+    shadow_group<0>(s, li, L, tm, objs);
+    if (s.numForeground > 4) shadow_group<4>(s, li, L, tm, objs);
+    alignas(16) u32 objects[4];
+    *(i4*)objects = (objs | i4_of((i32)s.unboundedMask)) & *(i4*)range;
+    u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & lit;
     u32 shadowed = 0;
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
-    for (u32 q = lit; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      Vec3 Lk = dirL.lane(k);
-      u32 objects = shadow_mask(s, li, Lk, dist[k], range[k]);
-      if (!objects) continue; // lit: code 0, through 1
-      u32 self = 1u << id[k];
-      bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
-      int code = 0;
-      Vec3 tr = shadow_objects(s, Ray{lo.lane(k), Lk}, dist[k], objects, code, exits ? self : 0);
-      through.v[0][k] = tr.x;
-      through.v[1][k] = tr.y;
-      through.v[2][k] = tr.z;
-      shadowed |= (u32)(code == 3) << k;
-      bits[k] |= (u32)code << (5 + 3 * li);
+    V4 tv = {one, one, one};
+    if (cand) {
+      // Lit lanes without a candidate: code 0, through 1.
+      Lanes3 dirL, through;
+      dirL.set(L);
+      through.set(tv);
+      for (u32 q = cand; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        u32 self = 1u << id[k];
+        bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
+        int code = 0;
+        Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code,
+                                 exits ? self : 0);
+        through.v[0][k] = tr.x;
+        through.v[1][k] = tr.y;
+        through.v[2][k] = tr.z;
+        shadowed |= (u32)(code == 3) << k;
+        bits[k] |= (u32)code << (5 + 3 * li);
+      }
+      tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
     }
     i4 add = lanes_of(lit & ~shadowed);
-    V4 tv = {*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
     col = select(add, col + term * tv, col);
     if (paths) {
       u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));

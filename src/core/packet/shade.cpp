@@ -41,37 +41,6 @@ inline f4 load4(const float* p) {
   return r;
 }
 
-// Lane j of v in every lane (pshufd: one instruction, its source kept).
-template <int j> inline f4 lane_splat(f4 v) { return (f4)__builtin_ia32_pshufd((i4)v, j * 0x55); }
-template <int j> inline i4 lane_splat(i4 v) { return __builtin_ia32_pshufd(v, j * 0x55); }
-
-// shadow_mask() (trace.h) of four shadow rays (unit L and dist in lanes) to
-// light li for the bound in slot g + j: the slot's bit in each lane of objs
-// whose ray may meet it. fx, fy, fz, c, r: the slots g..g + 3 of
-// Scene::lightFX, lightFY, lightFZ, lightC and boundR; cpos: c > 0. Lane by
-// lane the operations of shadow_mask's, in its order.
-template <int g, int j>
-inline void shadow_bound(f4 fx, f4 fy, f4 fz, f4 c, f4 r, i4 cpos, V4 L, f4 tm, i4& objs) {
-  f4 zero = f4_of(0.0f);
-  f4 beta = lane_splat<j>(fx) * L.x + lane_splat<j>(fy) * L.y + lane_splat<j>(fz) * L.z;
-  i4 miss = (beta * beta < lane_splat<j>(c)) |
-            (lane_splat<j>(cpos) & ((beta < zero) | (beta - lane_splat<j>(r) >= tm)));
-  objs |= ~miss & i4_of(1 << (g + j));
-}
-// The foreground slots g..g + 3 (of s.numForeground) by shadow_bound().
-template <int g> inline void shadow_group(const Scene& s, int li, V4 L, f4 tm, i4& objs) {
-  static_assert(kMaxObjects == 8, "two groups of four slots");
-  f4 fx = *(const f4*)(s.lightFX[li] + g), fy = *(const f4*)(s.lightFY[li] + g);
-  f4 fz = *(const f4*)(s.lightFZ[li] + g), c = *(const f4*)(s.lightC[li] + g);
-  f4 r = *(const f4*)(s.boundR + g);
-  i4 cpos = c > f4_of(0.0f);
-  int n = s.numForeground - g;
-  shadow_bound<g, 0>(fx, fy, fz, c, r, cpos, L, tm, objs);
-  if (n > 1) shadow_bound<g, 1>(fx, fy, fz, c, r, cpos, L, tm, objs);
-  if (n > 2) shadow_bound<g, 2>(fx, fy, fz, c, r, cpos, L, tm, objs);
-  if (n > 3) shadow_bound<g, 3>(fx, fy, fz, c, r, cpos, L, tm, objs);
-}
-
 // The rows r[k] (four floats from row pointer k) as columns: out[c][k] = r[k][c].
 inline void columns(const float* const r[4], f4 out[4]) {
   f4 a = load4(r[0]), b = load4(r[1]), c = load4(r[2]), d = load4(r[3]);
@@ -366,8 +335,10 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
   }
 
-  // The lights: the terms in lanes, each lane's shadow ray through the
-  // scalar transmittance() (a primary ray records: every lit term casts one).
+  // The lights: the terms and the shadow rays' bound tests in lanes; the
+  // object tests of a lane's shadow ray where a bound is met through the
+  // scalar shadow_objects() (a primary ray records: every lit term casts a
+  // shadow ray).
   u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
@@ -393,22 +364,15 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
       term = mc * (diffuse * NdotL + spec) * splat(light.color);
     }
-    // The shadow rays' bound test (shadow_mask(), trace.h) four lanes a
-    // bound: lane k's beta, miss and hit bit as shadow_mask computes them for
-    // its ray; range holds foreground objects only, so the other slots are
-    // not tested.
-    i4 objs = i4_of(0);
-    f4 tm = *(f4*)dist;
-    shadow_group<0>(s, li, L, tm, objs);
-    if (s.numForeground > 4) shadow_group<4>(s, li, L, tm, objs);
+    // Each lane's shadow_mask() (trace.h), four lanes a bound.
     alignas(16) u32 objects[4];
-    *(i4*)objects = (objs | i4_of((i32)s.unboundedMask)) & *(i4*)range;
+    *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
     u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & lit;
     u32 shadowed = 0;
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
     V4 tv = {one, one, one};
     if (cand) {
-      // Lit lanes without a candidate: code 0, through 1.
+      // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
       Lanes3 dirL, through;
       dirL.set(L);
       through.set(tv);

@@ -54,15 +54,28 @@ template <int j> inline i4 lane_splat(i4 v) { return __builtin_ia32_pshufd(v, j 
 
 // The bound in slot g + j: its bit set in each lane of `objs` whose ray may
 // meet it. fx, fy, fz, c, r: slots g..g + 3 of the light's Scene::lightFX,
-// lightFY, lightFZ, lightC and of boundR; cpos: c > 0.
-template <int g, int j>
+// lightFY, lightFZ, lightC and of boundR; cpos: c > 0. Without anyIn every
+// lane of cpos is set (the light outside all four bounds, as in every bench
+// frame), so shadow_mask's `(c > 0) &` is left out.
+template <int g, int j, bool anyIn>
 __attribute__((always_inline)) inline void bound4(f4 fx, f4 fy, f4 fz, f4 c, f4 r, i4 cpos, f4 Lx,
                                                   f4 Ly, f4 Lz, f4 dist, i4& objs) {
   f4 zero = f4_of(0.0f);
   f4 beta = lane_splat<j>(fx) * Lx + lane_splat<j>(fy) * Ly + lane_splat<j>(fz) * Lz;
-  i4 miss = (beta * beta < lane_splat<j>(c)) |
-            (lane_splat<j>(cpos) & ((beta < zero) | (beta - lane_splat<j>(r) >= dist)));
+  i4 far = (beta < zero) | (beta - lane_splat<j>(r) >= dist);
+  if (anyIn) far &= lane_splat<j>(cpos);
+  i4 miss = (beta * beta < lane_splat<j>(c)) | far;
   objs |= ~miss & i4_of(1 << (g + j));
+}
+
+// The slots g..g + n - 1 (n <= 4 of them tested) by bound4().
+template <int g, bool anyIn>
+__attribute__((always_inline)) inline void slots4(f4 fx, f4 fy, f4 fz, f4 c, f4 r, i4 cpos, int n,
+                                                  f4 Lx, f4 Ly, f4 Lz, f4 dist, i4& objs) {
+  bound4<g, 0, anyIn>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
+  if (n > 1) bound4<g, 1, anyIn>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
+  if (n > 2) bound4<g, 2, anyIn>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
+  if (n > 3) bound4<g, 3, anyIn>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
 }
 
 // The foreground slots g..g + 3 (those below s.numForeground) by bound4().
@@ -74,10 +87,10 @@ __attribute__((always_inline)) inline void group4(const Scene& s, int l, f4 Lx, 
   f4 r = *(const f4*)(s.boundR + g);
   i4 cpos = c > f4_of(0.0f);
   int n = s.numForeground - g;
-  bound4<g, 0>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
-  if (n > 1) bound4<g, 1>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
-  if (n > 2) bound4<g, 2>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
-  if (n > 3) bound4<g, 3>(fx, fy, fz, c, r, cpos, Lx, Ly, Lz, dist, objs);
+  if (lane_bits(cpos) == 15)
+    slots4<g, false>(fx, fy, fz, c, r, cpos, n, Lx, Ly, Lz, dist, objs);
+  else
+    slots4<g, true>(fx, fy, fz, c, r, cpos, n, Lx, Ly, Lz, dist, objs);
 }
 
 } // namespace shade4

@@ -7,7 +7,10 @@
 // denormals, 1, NaN, Inf, the range ends of exp2, the kSpecExp cut of
 // Phong's power, exp's underflow); trace_primary4() against trace_primary() per lane (colour
 // bits, records, ray counts) on packets of 1 to 4 pixels that mix objects,
-// misses and silhouette pixels (grazing rays) over frames of both scenes.
+// misses and silhouette pixels (grazing rays) over frames of both scenes;
+// shadow_mask4() against shadow_mask() per lane at the edges of its tests
+// (rays ending at a bound, grazing it, lights inside bounds), and the
+// shading point with lights moved into and beside the objects' bounds.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +19,7 @@
 
 #include "packet/packet.h"
 #include "packet/pow4.h"
+#include "packet/shade.h"
 #include "scenes.h"
 
 namespace {
@@ -345,6 +349,174 @@ TEST(Shade4, OneFrustumPacketsMatchPerLaneOnSidesAndCaps) {
   EXPECT_GT(piece[1], 30000);
   EXPECT_GT(piece[2], 3000);
   EXPECT_GT(c.backs, 50000); // from inside the solid
+}
+
+// A float n ulps from x (n may be negative), towards +-Inf.
+float ulps(float x, int n) {
+  for (; n > 0; --n)
+    x = std::nextafter(x, 1e30f);
+  for (; n < 0; ++n)
+    x = std::nextafter(x, -1e30f);
+  return x;
+}
+
+// A scene of random spheres (some around a light), a foreground plane (an
+// unbounded object), an empty shape (no ray passes its bound) and up to four
+// lights, some inside a sphere's bound: what shadow_mask() handles that the
+// bench scenes may not hold.
+void random_bounds_scene(Scene& s, std::mt19937& rng) {
+  std::uniform_real_distribution<float> pos(-5.0f, 5.0f), rad(0.2f, 2.0f), u(0.0f, 1.0f);
+  const Material m = {{0.5f, 0.5f, 0.5f}, 0.5f, 0.5f, 40.0f, 0.2f, 0.3f, 1.5f, 0.3f, 0.04f};
+  scene_clear(s);
+  int n = 3 + (int)(rng() % 6); // 3..8 objects
+  Vec3 lights[kMaxLights];
+  int numLights = 1 + (int)(rng() % kMaxLights);
+  for (int l = 0; l < numLights; ++l)
+    lights[l] = v3(pos(rng), pos(rng), pos(rng));
+  for (int i = 0; i < n; ++i) {
+    int kind = (int)(rng() % 8);
+    if (kind == 0)
+      scene_add(s, make_plane(normalize(v3(pos(rng), pos(rng), pos(rng)), v3(0, 1, 0)), pos(rng)),
+                m);
+    else if (kind == 1)
+      scene_add(s, make_triangle(v3(0, 0, 0), v3(1, 1, 1), v3(2, 2, 2)), m); // kEmpty
+    else if (kind < 4) {
+      // A sphere around a light: the light inside the bound (lightC <= 0).
+      Vec3 c = lights[rng() % numLights] + v3(pos(rng), pos(rng), pos(rng)) * 0.1f;
+      scene_add(s, make_sphere(c, rad(rng)), m);
+    } else
+      scene_add(s, make_sphere(v3(pos(rng), pos(rng), pos(rng)), rad(rng)), m);
+  }
+  for (int l = 0; l < numLights; ++l)
+    scene_add_light(s, lights[l], v3(1, 1, 1));
+}
+
+// shadow_mask4() against shadow_mask() lane by lane, bit for bit: seeded
+// rays to every light of timeline frames of both scenes and of random
+// scenes, at the edges of each of its tests: segments that end at a bound
+// (dist = beta - R +- a few ulps), lines that graze it (beta^2 = c), lights
+// inside a bound (c <= 0), unbounded and empty objects, and ranges that
+// leave objects out.
+TEST(Shade4, ShadowMask4MatchesShadowMaskPerLane) {
+  std::mt19937 rng(9090);
+  std::uniform_real_distribution<float> tt(0.0f, 64.0f), sym(-1.0f, 1.0f), len(0.0f, 25.0f);
+  long lanes = 0, differ = 0, none = 0, some = 0, atEnd = 0, grazing = 0, lightInside = 0;
+  long unbounded = 0;
+  for (int sc = 0; sc < 400; ++sc) {
+    Scene s;
+    if (sc % 2)
+      random_bounds_scene(s, rng);
+    else
+      build_timeline_scene(s, tt(rng));
+    u32 fg = (1u << s.numForeground) - 1;
+    unbounded += (s.unboundedMask & fg) != 0;
+    for (int l = 0; l < s.numLights; ++l)
+      for (int i = 0; i < s.numForeground; ++i)
+        lightInside += s.lightC[l][i] <= 0;
+    for (int l = 0; l < s.numLights; ++l)
+      for (int r = 0; r < 100; ++r) {
+        f4 L[3], dist;
+        alignas(16) u32 range[4];
+        for (int k = 0; k < 4; ++k) {
+          int i = (int)(rng() % s.numForeground); // a bound the ray is built about
+          Vec3 f = {s.lightFX[l][i], s.lightFY[l][i], s.lightFZ[l][i]};
+          Vec3 dir = normalize(v3(sym(rng), sym(rng), sym(rng)), v3(0, 1, 0));
+          float d = len(rng);
+          int kind = (r + k) % 4;
+          if (kind == 1 || kind == 2) {
+            // Along -L from the light towards the bound (beta > 0), or
+            // grazing it: beta = f.L = sqrt(c).
+            Vec3 u = normalize(f, v3(0, 1, 0));
+            Vec3 w = normalize(cross(u, dir), v3(1, 0, 0));
+            float c = s.lightC[l][i], fl = rt_sqrt(dot(f, f));
+            float cosT = kind == 2 && c > 0 && fl > 0 ? rt_sqrt(c) / fl : 1.0f - 0.2f * sym(rng);
+            cosT = rt_clamp(cosT, -1.0f, 1.0f);
+            dir = normalize(u * cosT + w * rt_sqrt(1.0f - cosT * cosT), u);
+            for (float* q : {&dir.x, &dir.y, &dir.z})
+              *q = ulps(*q, (int)(rng() % 5) - 2);
+          }
+          // shadow_mask's beta, in its order.
+          float beta = s.lightFX[l][i] * dir.x + s.lightFY[l][i] * dir.y + s.lightFZ[l][i] * dir.z;
+          if (kind == 1 || kind == 3) d = ulps(beta - s.boundR[i], (int)(rng() % 7) - 3);
+          atEnd += (kind == 1 || kind == 3) && d > 0;
+          grazing += kind == 2 && s.lightC[l][i] > 0 &&
+                     rt_abs(beta * beta - s.lightC[l][i]) <= 1e-5f * s.lightC[l][i];
+          L[0][k] = dir.x;
+          L[1][k] = dir.y;
+          L[2][k] = dir.z;
+          dist[k] = d;
+          int rk = (int)(rng() % 3);
+          range[k] = rk == 0 ? fg : (rk == 1 ? fg & ~(1u << i) : (u32)rng() & fg);
+        }
+        alignas(16) u32 got[4];
+        *(i4*)got = shadow_mask4(s, l, L[0], L[1], L[2], dist, *(const i4*)range);
+        for (int k = 0; k < 4; ++k) {
+          u32 want = shadow_mask(s, l, Vec3{L[0][k], L[1][k], L[2][k]}, dist[k], range[k]);
+          differ += got[k] != want;
+          none += want == 0;
+          some += (want & ~s.unboundedMask) != 0;
+          ++lanes;
+        }
+      }
+  }
+  EXPECT_EQ(differ, 0) << "of " << lanes << " lanes";
+  EXPECT_GT(none, 100000);
+  EXPECT_GT(some, 50000);
+  EXPECT_GT(atEnd, 60000);
+  EXPECT_GT(grazing, 30000);
+  EXPECT_GT(lightInside, 200);
+  EXPECT_GT(unbounded, 50);
+}
+
+// The shading point with the lights moved: into a foreground object's bound
+// (lightC <= 0), just outside it, and anywhere; packets of random pixels
+// against per-lane trace_primary() (colour bits, records, ray counts).
+TEST(Shade4, LightsInAndBesideBoundsMatchPerLane) {
+  std::mt19937 rng(6161);
+  std::uniform_real_distribution<float> tt(0.0f, 64.0f), sym(-1.0f, 1.0f), frac(0.0f, 1.0f);
+  std::uniform_real_distribution<float> px(0.0f, 79.0f), py(0.0f, 59.0f);
+  std::uniform_int_distribution<int> lanes(1, 4);
+  Counts c;
+  long inBound = 0;
+  for (int frame = 0; frame < 64; ++frame) {
+    Scene s;
+    build_timeline_scene(s, tt(rng));
+    int n = s.numLights;
+    Light old[kMaxLights];
+    for (int l = 0; l < n; ++l)
+      old[l] = s.lights[l];
+    s.numLights = 0;
+    for (int l = 0; l < n; ++l) {
+      int i = (int)(rng() % s.numForeground);
+      Vec3 centre = {s.boundX[i], s.boundY[i], s.boundZ[i]};
+      Vec3 dir = normalize(v3(sym(rng), sym(rng), sym(rng)), v3(0, 1, 0));
+      int kind = (frame + l) % 3;
+      Vec3 p = kind == 0   ? centre + dir * (0.9f * frac(rng) * s.boundR[i])
+               : kind == 1 ? centre + dir * (s.boundR[i] * (1.0f + 0.05f * frac(rng)))
+                           : old[l].pos + v3(sym(rng), sym(rng), sym(rng));
+      scene_add_light(s, p, old[l].color);
+    }
+    for (int l = 0; l < s.numLights; ++l)
+      for (int i = 0; i < s.numForeground; ++i)
+        inBound += s.lightC[l][i] <= 0;
+    CameraRays cr = camera_rays(s, 80, 60);
+    for (int p = 0; p < 400; ++p) {
+      float xs[4], ys[4];
+      float x0 = px(rng), y0 = py(rng);
+      for (int k = 0; k < 4; ++k) {
+        // Mostly 2x2 neighbours (packets of one object), some anywhere.
+        bool near = p % 4 != 0;
+        xs[k] = near ? x0 + (float)(k & 1) : px(rng);
+        ys[k] = near ? y0 + (float)(k >> 1) : py(rng);
+      }
+      compare_lanes(s, cr, xs, ys, lanes(rng), c);
+    }
+  }
+  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
+  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
+  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  EXPECT_GT(c.lanes, 50000);
+  EXPECT_GT(inBound, 30);
 }
 
 } // namespace

@@ -140,7 +140,9 @@ RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u3
 // beside (beta^2 < c), or the light is outside the bound (c > 0) and the
 // segment points away from it (beta < 0) or ends before it (beta - R >= dist).
 // Both groups, unrolled, as in trace.cpp's bound_mask. Inline: trace.cpp's
-// shadow rays and the packet tracer's (packet/shade.cpp) each hold a copy.
+// shadow rays hold a copy; the packet tracer's shading point takes four rays
+// a bound with the same operations (shadow_mask4(), packet/shade.h), which
+// tests/test_shade4.cpp checks against this one.
 __attribute__((always_inline)) inline u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist,
                                                       u32 range) {
   typedef float v4 __attribute__((vector_size(16)));

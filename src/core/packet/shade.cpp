@@ -106,7 +106,7 @@ __attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 
 
 // cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
 // kSpecExp test cuts it (or N.h <= 0). I is the incident direction.
-__attribute__((noinline)) f4 cook_torrance4(V4 N, V4 I, V4 L, f4 roughness, f4 f0) {
+__attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 roughness, f4 f0) {
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 h = L - I;
   f4 nh = dot(N, h), m2 = roughness * roughness;
@@ -335,8 +335,10 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
   }
 
-  // The lights: the terms in lanes, each lane's shadow ray through the
-  // scalar transmittance() (a primary ray records: every lit term casts one).
+  // The lights: the terms and the shadow rays' bound tests in lanes; the
+  // object tests of a lane's shadow ray where a bound is met through the
+  // scalar shadow_objects() (a primary ray records: every lit term casts a
+  // shadow ray).
   u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
@@ -362,28 +364,34 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
       term = mc * (diffuse * NdotL + spec) * splat(light.color);
     }
-    Lanes3 dirL, through;
-    dirL.set(L);
-    through.set(V4{one, one, one});
+    // Each lane's shadow_mask() (trace.h), four lanes a bound.
+    alignas(16) u32 objects[4];
+    *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
+    u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & lit;
     u32 shadowed = 0;
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
-    for (u32 q = lit; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      Vec3 Lk = dirL.lane(k);
-      u32 objects = shadow_mask(s, li, Lk, dist[k], range[k]);
-      if (!objects) continue; // lit: code 0, through 1
-      u32 self = 1u << id[k];
-      bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
-      int code = 0;
-      Vec3 tr = shadow_objects(s, Ray{lo.lane(k), Lk}, dist[k], objects, code, exits ? self : 0);
-      through.v[0][k] = tr.x;
-      through.v[1][k] = tr.y;
-      through.v[2][k] = tr.z;
-      shadowed |= (u32)(code == 3) << k;
-      bits[k] |= (u32)code << (5 + 3 * li);
+    V4 tv = {one, one, one};
+    if (cand) {
+      // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
+      Lanes3 dirL, through;
+      dirL.set(L);
+      through.set(tv);
+      for (u32 q = cand; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        u32 self = 1u << id[k];
+        bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
+        int code = 0;
+        Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code,
+                                 exits ? self : 0);
+        through.v[0][k] = tr.x;
+        through.v[1][k] = tr.y;
+        through.v[2][k] = tr.z;
+        shadowed |= (u32)(code == 3) << k;
+        bits[k] |= (u32)code << (5 + 3 * li);
+      }
+      tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
     }
     i4 add = lanes_of(lit & ~shadowed);
-    V4 tv = {*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
     col = select(add, col + term * tv, col);
     if (paths) {
       u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));

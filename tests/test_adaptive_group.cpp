@@ -49,6 +49,40 @@ int held_blocks(const std::vector<uint8_t>& kinds, int w, int h, int block, int 
   return held;
 }
 
+// The caller's buffer for a w x h frame of base block `block` (adaptive.cpp):
+// gridH lines of `w` samples, one scratch per band, the queue (two counters,
+// a done and a busy flag per band) last; sizes in samples.
+struct Layout {
+  int bands;
+  size_t count, lines, queue, scratch; // scratch: one band's
+};
+
+Layout buffer_layout(int w, int h, int block) {
+  Layout l;
+  int gridH = (h - 1 + block - 1) / block + 1;
+  l.bands = gridH - 1;
+  l.count = size_t(adaptive_corner_count(w, h, block));
+  l.lines = size_t(gridH) * size_t(w);
+  l.queue = (8 + 2 * size_t(l.bands) + sizeof(CornerSample) - 1) / sizeof(CornerSample);
+  l.scratch = (l.count - l.lines - l.queue) / size_t(l.bands);
+  return l;
+}
+
+// An adaptive frame of `s` into img over the caller's buffer, begun.
+AdaptiveFrame begun_frame(const Scene& s, Image& img, CornerSample* corners, int block) {
+  AdaptiveFrame f{};
+  f.scene = &s;
+  f.fb = img.pixels.data();
+  f.width = f.stride = img.width;
+  f.height = img.height;
+  f.baseBlock = block;
+  f.minBlock = 2;
+  f.mode = kModeAdaptive;
+  f.corners = corners;
+  adaptive_begin(f);
+  return f;
+}
+
 } // namespace
 
 // The count is a byte followed by three bytes of padding that a record's
@@ -237,25 +271,13 @@ TEST(AdaptiveFrame, OnlyTheFirstScratchesPerThreadAreWritten) {
   const int w = 400, h = 300, block = 8;
   Scene s;
   build_timeline_scene(s, 44.0);
-  int gridH = (h - 1 + block - 1) / block + 1, bands = gridH - 1;
-  size_t count = size_t(adaptive_corner_count(w, h, block));
-  size_t lines = size_t(gridH) * size_t(w);
-  size_t queue = (8 + 2 * size_t(bands) + sizeof(CornerSample) - 1) / sizeof(CornerSample);
-  size_t scratch = (count - lines - queue) / size_t(bands); // one band's
-  ASSERT_EQ(lines + scratch * size_t(bands) + queue, count);
+  Layout L = buffer_layout(w, h, block);
+  size_t count = L.count, lines = L.lines, queue = L.queue, scratch = L.scratch;
+  ASSERT_EQ(lines + scratch * size_t(L.bands) + queue, count);
   std::vector<CornerSample> corners(count);
   auto render = [&](int threads) {
     Image img(w, h);
-    AdaptiveFrame f{};
-    f.scene = &s;
-    f.fb = img.pixels.data();
-    f.width = f.stride = w;
-    f.height = h;
-    f.baseBlock = block;
-    f.minBlock = 2;
-    f.mode = kModeAdaptive;
-    f.corners = corners.data();
-    adaptive_begin(f);
+    AdaptiveFrame f = begun_frame(s, img, corners.data(), block);
     auto work = [&f] {
       RayStats stats{0, 0, 0};
       for (int b; (b = adaptive_take(f)) != kAdaptiveDone;)
@@ -308,12 +330,9 @@ TEST(AdaptiveFrame, OnlyTheFirstScratchesPerThreadAreWritten) {
 // past that size).
 TEST(AdaptiveFrame, ChildGroupsOfThirtyTwoStayInTheirScratch) {
   const int w = 400, h = 300, block = 64;
-  int gridH = (h - 1 + block - 1) / block + 1, bands = gridH - 1;
-  size_t count = size_t(adaptive_corner_count(w, h, block));
-  size_t lines = size_t(gridH) * size_t(w);
-  size_t queue = (8 + 2 * size_t(bands) + sizeof(CornerSample) - 1) / sizeof(CornerSample);
-  size_t scratch = (count - lines - queue) / size_t(bands);
-  ASSERT_EQ(lines + scratch * size_t(bands) + queue, count);
+  Layout L = buffer_layout(w, h, block);
+  size_t count = L.count, lines = L.lines, queue = L.queue, scratch = L.scratch;
+  ASSERT_EQ(lines + scratch * size_t(L.bands) + queue, count);
   size_t sixteen = 17 * (block + 1) + 8 * 2 * (block + 1); // columns, base level
   for (int s = (block + 1) / 2; s >= 2; s = (s + 1) / 2)
     sixteen += 16 * 2 * size_t(s + 1);
@@ -327,16 +346,7 @@ TEST(AdaptiveFrame, ChildGroupsOfThirtyTwoStayInTheirScratch) {
       bytes[i] = (uint8_t)rng.next();
     std::vector<uint8_t> before(bytes, bytes + count * sizeof(CornerSample));
     Image img(w, h);
-    AdaptiveFrame f{};
-    f.scene = &s;
-    f.fb = img.pixels.data();
-    f.width = f.stride = w;
-    f.height = h;
-    f.baseBlock = block;
-    f.minBlock = 2;
-    f.mode = kModeAdaptive;
-    f.corners = corners.data();
-    adaptive_begin(f);
+    AdaptiveFrame f = begun_frame(s, img, corners.data(), block);
     RayStats stats{0, 0, 0};
     for (int b; (b = adaptive_take(f)) != kAdaptiveDone;)
       if (b != kAdaptiveWait) adaptive_run(f, b, &stats);

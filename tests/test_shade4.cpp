@@ -190,6 +190,13 @@ void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const 
              stats.shadow != ref.shadow;
 }
 
+// Every lane compared had the per-lane colour bits, record and ray counts.
+void expect_all_match(const Counts& c) {
+  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
+  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
+  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+}
+
 TEST(Shade4, PacketsOfMixedObjectsMissesAndSilhouettesMatchPerLane) {
   std::mt19937 rng(1414);
   std::uniform_real_distribution<float> t1(0.0f, 32.0f), t2(32.0f, 64.0f);
@@ -228,9 +235,7 @@ TEST(Shade4, PacketsOfMixedObjectsMissesAndSilhouettesMatchPerLane) {
       compare_lanes(s, cam, xs, ys, n, c);
     }
   }
-  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
-  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
-  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  expect_all_match(c);
   EXPECT_GT(c.lanes, 10000);
   EXPECT_GT(silhouettes, 5000);
   EXPECT_GT(c.misses, 100); // lanes that see nothing
@@ -277,9 +282,7 @@ TEST(Shade4, RandomCamerasAndFractionalPixelsMatchPerLane) {
       }
     }
   }
-  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
-  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
-  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  expect_all_match(c);
   EXPECT_GT(c.lanes, 30000);
   EXPECT_GT(insideCams, 100);
   EXPECT_GT(c.backs, 5000); // primary hits from inside a solid
@@ -339,9 +342,7 @@ TEST(Shade4, OneFrustumPacketsMatchPerLaneOnSidesAndCaps) {
         }
     }
   }
-  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
-  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
-  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  expect_all_match(c);
   EXPECT_EQ(c.mixed, 0);
   EXPECT_GT(packets, 50000);
   // Hit::piece of a frustum (shapes.cpp): 0 the side, 1 the base, 2 the top cap.
@@ -512,9 +513,7 @@ TEST(Shade4, LightsInAndBesideBoundsMatchPerLane) {
       compare_lanes(s, cr, xs, ys, lanes(rng), c);
     }
   }
-  EXPECT_EQ(c.color, 0) << "colours differ on " << c.color << " of " << c.lanes;
-  EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
-  EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
+  expect_all_match(c);
   EXPECT_GT(c.lanes, 50000);
   EXPECT_GT(inBound, 30);
 }

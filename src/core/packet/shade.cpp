@@ -41,9 +41,9 @@ inline f4 load4(const float* p) {
   return r;
 }
 
-// The rows r[k] (four floats from row pointer k) as columns: out[c][k] = r[k][c].
-inline void columns(const float* const r[4], f4 out[4]) {
-  f4 a = load4(r[0]), b = load4(r[1]), c = load4(r[2]), d = load4(r[3]);
+// The columns a, b, c, d as rows: out[k] = {a[k], b[k], c[k], d[k]} (a 4x4
+// transpose, its own inverse).
+inline void rows(f4 a, f4 b, f4 c, f4 d, f4 out[4]) {
   f4 ab0 = __builtin_ia32_unpcklps(a, b), cd0 = __builtin_ia32_unpcklps(c, d);
   f4 ab1 = __builtin_ia32_unpckhps(a, b), cd1 = __builtin_ia32_unpckhps(c, d);
   out[0] = __builtin_ia32_movlhps(ab0, cd0);
@@ -52,14 +52,9 @@ inline void columns(const float* const r[4], f4 out[4]) {
   out[3] = __builtin_ia32_movhlps(cd1, ab1);
 }
 
-// The columns a, b, c, d as rows: out[k] = {a[k], b[k], c[k], d[k]}.
-inline void rows(f4 a, f4 b, f4 c, f4 d, f4 out[4]) {
-  f4 ab0 = __builtin_ia32_unpcklps(a, b), cd0 = __builtin_ia32_unpcklps(c, d);
-  f4 ab1 = __builtin_ia32_unpckhps(a, b), cd1 = __builtin_ia32_unpckhps(c, d);
-  out[0] = __builtin_ia32_movlhps(ab0, cd0);
-  out[1] = __builtin_ia32_movhlps(cd0, ab0);
-  out[2] = __builtin_ia32_movlhps(ab1, cd1);
-  out[3] = __builtin_ia32_movhlps(cd1, ab1);
+// The rows r[k] (four floats from row pointer k) as columns: out[c][k] = r[k][c].
+inline void columns(const float* const r[4], f4 out[4]) {
+  rows(load4(r[0]), load4(r[1]), load4(r[2]), load4(r[3]), out);
 }
 
 // Each lane's Pending ray and weight (its first 28 bytes, Ray then weight)

@@ -215,6 +215,50 @@ TEST(Math, ExpNonpositiveIsRtExpBitForBit) {
   EXPECT_EQ(rt_exp_nonpositive(-100.0f), 0.0f);
 }
 
+// rt_pow_inline (rtmath.h), which Phong's light loop calls, gives rt_pow's
+// bits: Phong's range (x in [0, 1] a little beyond, the scenes' exponents)
+// densely, every 8191st float x with exponents from 2^-10 to 2^10, the edges
+// where y log2(x) crosses -126, 127 and the half-integers of rt_round, and
+// zeros, denormals, negatives, Inf and NaN for both arguments.
+TEST(Math, PowInlineIsRtPowBitForBit) {
+  int checked = 0, mismatches = 0;
+  float badX = 0, badY = 0;
+  auto check = [&](float x, float y) {
+    ++checked;
+    if (rt_bits(rt_pow_inline(x, y)) != rt_bits(rt_pow(x, y)) && mismatches++ == 0) {
+      badX = x;
+      badY = y;
+    }
+  };
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (float y : {40.0f, 60.0f, 120.0f, 200.0f, 1.0f, 2.5f})
+    for (u32 b = rt_bits(0.25f); b <= rt_bits(1.0001f); b += 7)
+      check(rt_from_bits(b), y);
+  for (int e = -10; e <= 10; ++e)
+    for (u64 b = 0; b <= 0x7f800000u; b += 8191)
+      check(rt_from_bits((u32)b), std::ldexp(1.0f + 0.37f * (float)(e & 3), e));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int i = 0; i < 200000; ++i) {
+    float y = std::ldexp(u(rng) + 0.5f, (int)(rng() % 24) - 8);
+    // x where y log2(x) is near -126, 127 or a half-integer.
+    float target = i % 3 == 0 ? -126.0f : i % 3 == 1 ? 127.0f : -(float)(rng() % 120) - 0.5f;
+    float x = (float)std::exp2((double)target / y);
+    u32 b = rt_bits(x);
+    for (u32 d = 0; d < 8; ++d)
+      check(rt_from_bits(b - 4 + d), y);
+  }
+  for (float x : {0.0f, -0.0f, 1e-45f, 1e-39f, -1.0f, 1.0f, 2.0f, inf, nan})
+    for (float y : {0.0f, -0.0f, 1.0f, 200.0f, -3.0f, 1e-30f, inf, nan})
+      check(x, y);
+  EXPECT_EQ(mismatches, 0) << "first at x = " << badX << ", y = " << badY;
+  EXPECT_GT(checked, 5000000);
+  EXPECT_EQ(rt_pow_inline(0.5f, 2.0f), rt_pow(0.5f, 2.0f));
+  EXPECT_EQ(rt_pow_inline(0.0f, 40.0f), 0.0f);
+  EXPECT_EQ(rt_pow_inline(0.3f, 0.0f), 1.0f);
+}
+
 // ---------------------------------------------------------------- log2
 
 // rtmath.h: |error| <= 2e-7 max(1, |log2 x|) for normal x > 0.

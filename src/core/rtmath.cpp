@@ -51,33 +51,14 @@ float rt_cos(float x) { return sin_quadrant(x, 1); }
 
 namespace {
 
-// 2^x with its range checks: 0 below -126 (and NaN), saturated at 127.
-float exp2_core(double x) {
-  if (!(x > -126.0)) return 0.0f; // underflow (and NaN) -> 0: a light term that vanishes
-  if (x > 127.0) x = 127.0;       // saturate: 2^127 is finite; no Inf leaves this function
-  return rt_exp2_reduced(x, rt_round(x));
-}
+float exp2_core(double x) { return rt_exp2_checked(x); }
 
 } // namespace
 
 float rt_exp2(float x) { return exp2_core(x); }
 float rt_exp(float x) { return exp2_core(x * 1.4426950408889634); }
 
-float rt_log2(float x) {
-  if (!(x >= 1.17549435e-38f)) return -126.0f; // zero, negative, denormal, NaN
-  u32 b = rt_bits(x);
-  i32 e = (i32)((b >> 23) & 255) - 127;
-  float m = rt_from_bits((b & 0x7fffffu) | 0x3f800000u); // [1, 2)
-  if (m > 1.41421356f) {
-    m *= 0.5f;
-    ++e;
-  }
-  // log(m) = 2 atanh(s), s = (m-1)/(m+1), |s| <= 0.1716; series to s^9:
-  // truncation 2 s^11/11 < 7e-10.
-  float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
-  float ln = 2 * s * (1 + s2 * (1.0f / 3 + s2 * (1.0f / 5 + s2 * (1.0f / 7 + s2 * (1.0f / 9)))));
-  return (float)e + ln * 1.44269504088896f;
-}
+float rt_log2(float x) { return rt_log2_inline(x); }
 
 float rt_pow(float x, float y) {
   if (y == 0.0f) return 1.0f;

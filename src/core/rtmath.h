@@ -79,13 +79,46 @@ __attribute__((always_inline)) inline float rt_exp_nonpositive(float x) {
   return rt_exp2_reduced(y, (i32)(y - 0.5));
 }
 
+// 2^x with rt_exp2's range checks: 0 below -126 (and NaN), saturated at
+// 127 (no Inf). rt_exp2 and rt_exp are this, out of line.
+inline float rt_exp2_checked(double x) {
+  if (!(x > -126.0)) return 0.0f; // underflow (and NaN) -> 0: a light term that vanishes
+  if (x > 127.0) x = 127.0;       // saturate: 2^127 is finite; no Inf leaves this function
+  return rt_exp2_reduced(x, rt_round(x));
+}
+
 // log2(x) for normal x > 0: |error| <= 2e-7 max(1, |log2 x|) (absolute near
 // x = 1, relative elsewhere). Zero, negative, denormal or NaN x returns -126.
+// rt_log2 is rt_log2_inline out of line.
 float rt_log2(float x);
+inline float rt_log2_inline(float x) {
+  if (!(x >= 1.17549435e-38f)) return -126.0f; // zero, negative, denormal, NaN
+  u32 b = rt_bits(x);
+  i32 e = (i32)((b >> 23) & 255) - 127;
+  float m = rt_from_bits((b & 0x7fffffu) | 0x3f800000u); // [1, 2)
+  if (m > 1.41421356f) {
+    m *= 0.5f;
+    ++e;
+  }
+  // log(m) = 2 atanh(s), s = (m-1)/(m+1), |s| <= 0.1716; series to s^9:
+  // truncation 2 s^11/11 < 7e-10.
+  float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
+  float ln = 2 * s * (1 + s2 * (1.0f / 3 + s2 * (1.0f / 5 + s2 * (1.0f / 7 + s2 * (1.0f / 9)))));
+  return (float)e + ln * 1.44269504088896f;
+}
 // x^y for x >= 0; pow(0, y > 0) = 0. Used by Phong's (V.R)^h. For x > 0 and
 // z = y log2(x) in (-126, 127]: relative error <= 4e-7 (1 + |z|), the error
 // of log2 amplified by y.
 float rt_pow(float x, float y);
+// rt_pow bit for bit, inline: the same steps (rt_log2, the float product,
+// rt_exp2's checks) without its three calls, for Phong's light loop in
+// trace_tree, which saved its values around them (docs/tracer-speed.md,
+// rounds ten and eleven).
+inline float rt_pow_inline(float x, float y) {
+  if (y == 0.0f) return 1.0f;
+  if (!(x > 0.0f)) return 0.0f;
+  return rt_exp2_checked(y * rt_log2_inline(x));
+}
 
 struct Vec3 {
   float x, y, z;

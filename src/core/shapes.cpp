@@ -20,13 +20,6 @@ bool accept(float t, float tMin, u8 piece, float local, Hit& hit) {
   return true;
 }
 
-// Writes the outward normal turned to face the ray, and hit.front.
-__attribute__((always_inline)) inline void face(Vec3 outward, const Ray& ray, Hit& hit) {
-  bool front = dot(outward, ray.dir) < 0;
-  hit.normal = front ? outward : -outward;
-  hit.front = front;
-}
-
 // Sphere, after Haines et al., "Precision Improvements for Ray/Sphere
 // Intersection" (Ray Tracing Gems ch. 7): discriminant r^2 - |f - (f.d)d|^2
 // and roots q = -(b + sign(b) sqrt(disc)), t0 = c/q, t1 = q (a = 1).
@@ -50,32 +43,6 @@ bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   }
   float t = t0 > tMin ? t0 : t1;
   return accept(t, tMin, 0, 0.0f, hit);
-}
-
-// The normal from the hit point relative to the centre, m = (org - centre)
-// + t dir: it has the sphere's size and carries eps (|org - centre| + t) of
-// rounding, not the float spacing of the hit point's world coordinates
-// (p - centre, as before, lost the normal when r fell below it: zero-length
-// or invented normals, issue 10 class 6). |m| = r up to that rounding; where
-// it comes out shorter than r / 2 (r below eps times the ray's distance,
-// hits that are all in the band) or longer than 2 r (a ray from beyond the
-// domain, where |m|^2 may overflow), m is rebuilt from Haines's stable terms:
-// f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
-// root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
-// zero, so the normal is always the sphere's own. Returns the outward unit
-// normal (hit_normal() turns it to face the ray).
-Vec3 sphere_outward(const Shape& s, const Ray& ray, const Hit& hit) {
-  Vec3 f = ray.org - s.a;
-  Vec3 m = f + ray.dir * hit.t;
-  float len2 = dot(m, m), r2 = s.r0 * s.r0;
-  if (!(len2 >= 0.25f * r2 && len2 <= 4.0f * r2)) { // also a ray from beyond the domain
-    float b = dot(f, ray.dir);
-    Vec3 perp = f - ray.dir * b;
-    float root = rt_sqrt(rt_max(r2 - dot(perp, perp), 0.0f));
-    m = perp + ray.dir * (hit.t < -b ? -root : root);
-    len2 = dot(m, m);
-  }
-  return m * (1.0f / rt_sqrt(len2));
 }
 
 // Plane {p : a.(p - b) = 0}, b its point offset * a. The numerator is the
@@ -367,7 +334,7 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return false;
 }
 
-// The outward normal of each kind, then one face() for all (a copy per kind
+// The outward normal of each kind, then one face_ray() for all (a copy per kind
 // cost ~200 bytes of the exe).
 void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
   Vec3 outward;
@@ -388,7 +355,7 @@ void hit_normal(const Shape& s, const Ray& ray, Hit& hit) {
   default: // kEmpty
     return;
   }
-  face(outward, ray, hit);
+  face_ray(outward, ray, hit);
 }
 
 bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hit) {

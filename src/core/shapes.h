@@ -182,6 +182,41 @@ RT64K_HOT_ABI bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hi
 RT64K_HOT_ABI bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit);
 RT64K_HOT_ABI void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
 
+// Writes the outward normal turned to face the ray, and hit.front.
+__attribute__((always_inline)) inline void face_ray(Vec3 outward, const Ray& ray, Hit& hit) {
+  bool front = dot(outward, ray.dir) < 0;
+  hit.normal = front ? outward : -outward;
+  hit.front = front;
+}
+
+// The normal from the hit point relative to the centre, m = (org - centre)
+// + t dir: it has the sphere's size and carries eps (|org - centre| + t) of
+// rounding, not the float spacing of the hit point's world coordinates
+// (p - centre, as before, lost the normal when r fell below it: zero-length
+// or invented normals, issue 10 class 6). |m| = r up to that rounding; where
+// it comes out shorter than r / 2 (r below eps times the ray's distance,
+// hits that are all in the band) or longer than 2 r (a ray from beyond the
+// domain, where |m|^2 may overflow), m is rebuilt from Haines's stable terms:
+// f + t d = perp + (t + b) d and t + b = -+sqrt(disc) for the near and far
+// root, so m = perp -+ sqrt(disc) d, |m|^2 = |perp|^2 + disc = r^2: never
+// zero, so the normal is always the sphere's own. Returns the outward unit
+// normal (hit_normal() turns it to face the ray). Inline: trace_tree shades
+// the scalar tree's hits on spheres (most of scene 1's) with it and calls no
+// hit_normal() for them (docs/tracer-speed.md, rounds ten and eleven).
+inline Vec3 sphere_outward(const Shape& s, const Ray& ray, const Hit& hit) {
+  Vec3 f = ray.org - s.a;
+  Vec3 m = f + ray.dir * hit.t;
+  float len2 = dot(m, m), r2 = s.r0 * s.r0;
+  if (!(len2 >= 0.25f * r2 && len2 <= 4.0f * r2)) { // also a ray from beyond the domain
+    float b = dot(f, ray.dir);
+    Vec3 perp = f - ray.dir * b;
+    float root = rt_sqrt(rt_max(r2 - dot(perp, perp), 0.0f));
+    m = perp + ray.dir * (hit.t < -b ? -root : root);
+    len2 = dot(m, m);
+  }
+  return m * (1.0f / rt_sqrt(len2));
+}
+
 // A sphere enclosing the shape (radius kHuge for a plane), padded by
 // kBoundPad relative so that rounding never culls a real hit.
 void shape_bound(const Shape& s, Vec3& centre, float& radius);

@@ -247,7 +247,13 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     } else {
       const Object& obj = s.objects[id];
       const Material& m = obj.mat;
-      hit_normal(obj.shape, ray, hit);
+      // A sphere's normal inline (hit_normal's own steps; most of scene 1's
+      // hits): no call, around which this loop saved its values
+      // (docs/tracer-speed.md, rounds ten and eleven).
+      if (obj.shape.kind == kSphere)
+        face_ray(sphere_outward(obj.shape, ray, hit), ray, hit);
+      else
+        hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;
       Vec3 N = hit.normal;
       Vec3 p = ray.org + ray.dir * hit.t;
@@ -344,7 +350,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
             float VdotR = rt_max(-dot(ray.dir, N * (2.0f * NdotL) - L), 0.0f);
             spec = m.shininess * (1.0f - VdotR) > kSpecExp
                        ? 0.0f
-                       : m.specular * rt_pow(VdotR, m.shininess);
+                       : m.specular * rt_pow_inline(VdotR, m.shininess);
             lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
           } else {
             spec = m.specular * cook_torrance(m, N, ray.dir, L) * NdotL;

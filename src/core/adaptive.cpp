@@ -517,6 +517,21 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
     }
 }
 
+// A child block's fields (process_group).
+inline void put_kid(Node& kid, int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top,
+                    Edge bottom, Edge left, Edge right) {
+  kid.x0 = x0;
+  kid.y0 = y0;
+  kid.x1 = x1;
+  kid.y1 = y1;
+  kid.xEnd = xEnd;
+  kid.yEnd = yEnd;
+  kid.top = top;
+  kid.bottom = bottom;
+  kid.left = left;
+  kid.right = right;
+}
+
 // Processes `count` blocks whose corners are known: copies, interpolates,
 // or asks for the samples of those traced per pixel and the new samples of
 // those split, traces them in one batch, then processes each split block's
@@ -609,36 +624,29 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       copy_slot(n.h, w, n.right, b);
     }
     if (n.splitX && n.splitY) copy_slot(n.h, a, n.v, b);
-    // The children: quadrants (qx, qy), two halves when one side is not
-    // split (then xm = x1 or ym = y1, and that side's arrays are the block's).
-    // The children of several split blocks form one group, up to kGroup
-    // blocks: their samples go in one batch.
+    // The children: quadrants, two halves when one side is not split (then
+    // xm = x1 or ym = y1, and that side's arrays are the block's), in the
+    // order top-left, top-right, bottom-left, bottom-right. The children of
+    // several split blocks form one group, up to kGroup blocks: their
+    // samples go in one batch.
     int nx = n.splitX ? 2 : 1, ny = n.splitY ? 2 : 1;
     if (k + nx * ny > kGroup) {
       process_group(c, kids, k);
       k = 0;
     }
-    // Per column (qx) and row (qy) of children, chosen once per block.
-    int x0s[2] = {n.x0, n.xm}, x1s[2] = {n.splitX ? n.xm : n.x1, n.x1};
-    int xEnds[2] = {n.splitX ? n.xm : n.xEnd, n.xEnd}, dxs[2] = {0, a};
-    int y0s[2] = {n.y0, n.ym}, y1s[2] = {n.splitY ? n.ym : n.y1, n.y1};
-    int yEnds[2] = {n.splitY ? n.ym : n.yEnd, n.yEnd}, dys[2] = {0, b};
-    Edge lefts[2] = {n.left, n.v}, rights[2] = {n.splitX ? n.v : n.right, n.right};
-    Edge tops[2] = {n.top, n.h}, bottoms[2] = {n.splitY ? n.h : n.bottom, n.bottom};
-    for (int qy = 0; qy < ny; ++qy)
-      for (int qx = 0; qx < nx; ++qx) {
-        Node& kid = kids[k++];
-        kid.x0 = x0s[qx];
-        kid.x1 = x1s[qx];
-        kid.xEnd = xEnds[qx];
-        kid.y0 = y0s[qy];
-        kid.y1 = y1s[qy];
-        kid.yEnd = yEnds[qy];
-        kid.top = tops[qy] + dxs[qx];
-        kid.bottom = bottoms[qy] + dxs[qx];
-        kid.left = lefts[qx] + dys[qy];
-        kid.right = rights[qx] + dys[qy];
-      }
+    // The left column's right end and the top row's bottom end.
+    int xa = n.splitX ? n.xm : n.x1, xe = n.splitX ? n.xm : n.xEnd;
+    int ya = n.splitY ? n.ym : n.y1, ye = n.splitY ? n.ym : n.yEnd;
+    Edge right = n.splitX ? n.v : n.right, bottom = n.splitY ? n.h : n.bottom;
+    put_kid(kids[k++], n.x0, n.y0, xa, ya, xe, ye, n.top, bottom, n.left, right);
+    if (n.splitX)
+      put_kid(kids[k++], n.xm, n.y0, n.x1, ya, n.xEnd, ye, n.top + a, bottom + a, n.v, n.right);
+    if (n.splitY) {
+      put_kid(kids[k++], n.x0, n.ym, xa, n.y1, xe, n.yEnd, n.h, n.bottom, n.left + b, right + b);
+      if (n.splitX)
+        put_kid(kids[k++], n.xm, n.ym, n.x1, n.y1, n.xEnd, n.yEnd, n.h + a, n.bottom + a, n.v + b,
+                n.right + b);
+    }
   }
   if (k) process_group(c, kids, k);
   c.used = used;

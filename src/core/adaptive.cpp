@@ -662,17 +662,34 @@ RT64K_HOT_ABI int line_owner(int k, int bands) {
 
 RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
-  Edge line = line_edge(f, k);
-  for (int i = 0; i < f.gridW; ++i) // the corners only (open_side: the rest)
-    line[grid_coord(i, f.baseBlock, f.width)].state = kUnknown;
-  int y = grid_coord(k, f.baseBlock, f.height);
+  int y = grid_coord(k, f.baseBlock, f.height), last = f.width - 1;
   // A one-pixel-high image: both lines are row 0; the band reads line 0 as
-  // its bottom too (run_band), so line 1 is not traced.
+  // its bottom too (run_band), so line 1 is neither traced nor read.
   if (k > 0 && y == grid_coord(k - 1, f.baseBlock, f.height)) return;
-  for (int i = 0; i < f.gridW; ++i) {
-    int x = grid_coord(i, f.baseBlock, f.width);
-    request(c, x, y, line + x);
+  // The corners (grid_coord: x = 0, baseBlock, ..., and the last column),
+  // each asked for as request() would, into the batch (the slots between
+  // them are open_side's); n kept in a register (the build has no strict
+  // aliasing).
+  Edge line = line_edge(f, k);
+  Batch& b = c.batch;
+  int n = b.n;
+  float fy = (float)y;
+  for (int x = 0;; x += f.baseBlock) {
+    if (x > last) x = last;
+    Edge e = line + x;
+    e->state = kPending;
+    b.x[n] = (float)x;
+    b.y[n] = fy;
+    b.out[n] = e;
+    b.pixel[n] = nullptr;
+    if (++n == kBatch) {
+      b.n = n;
+      flush(c);
+      n = 0;
+    }
+    if (x == last) break;
   }
+  b.n = n;
 }
 
 RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, int slot, RayStats* stats) {

@@ -435,15 +435,14 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
 // interpolate_block.
-inline void interpolate(const Context& c, const Node& b, u32 c00, u32 c10, u32 c01, u32 c11) {
+inline void interpolate(const Context& c, const Node& b, v4i corners) {
   const AdaptiveFrame& f = *c.f;
   int span = b.x1 - b.x0;
   if (c.exact && span == b.y1 - b.y0 && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
       (span == 2 || span == 4 || span == 8)) {
-    v4i corners = {(i32)c00, (i32)c10, (i32)c01, (i32)c11};
     interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
   } else {
-    interpolate_block(f, b, c00, c10, c01, c11);
+    interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
   }
 }
 
@@ -455,12 +454,10 @@ RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
   return false;
 }
 
-// True when no colour channel of the four samples spans more than
-// limit / 255. SSE2: per byte the largest and smallest of the four colours
+// True when no colour channel of the four packed colours v (a block's
+// corners) spans more than limit / 255. SSE2: per byte the largest and smallest of the four colours
 // (two lane swaps each), their difference less `limit`, saturating at 0.
-RT64K_HOT_ABI bool low_contrast(const Sample& a, const Sample& b, const Sample& c, const Sample& d,
-                                int limit) {
-  v4i v = {(i32)a.packed, (i32)b.packed, (i32)c.packed, (i32)d.packed};
+inline bool low_contrast(v4i v, int limit) {
   v16c hi = __builtin_ia32_pmaxub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   v16c lo = __builtin_ia32_pminub128((v16c)v, (v16c)__builtin_ia32_pshufd(v, 0x4e));
   hi = __builtin_ia32_pmaxub128(hi, (v16c)__builtin_ia32_pshufd((v4i)hi, 0xb1));
@@ -517,6 +514,21 @@ RT64K_COLD RT64K_HOT_ABI void trace_block(Context& c, const Node& n, bool writte
     }
 }
 
+// A child block's fields (process_group).
+inline void put_kid(Node& kid, int x0, int y0, int x1, int y1, int xEnd, int yEnd, Edge top,
+                    Edge bottom, Edge left, Edge right) {
+  kid.x0 = x0;
+  kid.y0 = y0;
+  kid.x1 = x1;
+  kid.y1 = y1;
+  kid.xEnd = xEnd;
+  kid.yEnd = yEnd;
+  kid.top = top;
+  kid.bottom = bottom;
+  kid.left = left;
+  kid.right = right;
+}
+
 // Processes `count` blocks whose corners are known: copies, interpolates,
 // or asks for the samples of those traced per pixel and the new samples of
 // those split, traces them in one batch, then processes each split block's
@@ -535,20 +547,23 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     // adaptive_decide(), with the rules below in its branches (is_small only
     // where a rule asks: not for most copied and interpolated blocks).
     BlockKind kind = kInterpolated;
+    // The corners' colours as one vector, made where a contrast test needs it
+    // (not for a copied block) and kept for the interpolation.
+    v4i cv;
     if (!same_records(c00.path, c10.path, c01.path, c11.path)) {
+      cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed};
       // Small blocks whose records differ: interpolated where the corners'
       // colours are close (kSmallContrast).
       int limit = is_small(f, w, h)                            ? kSmallContrast[0]
                   : w <= 2 * f.minBlock && h <= 2 * f.minBlock ? kSmallContrast[1]
                                                                : -1;
-      if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(c00, c10, c01, c11, limit))
-        kind = kSplit;
+      if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(cv, limit)) kind = kSplit;
     } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
       kind = kCopied;
-    } else if (f.mode != kModeAdaptive ||
+    } else if ((cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed},
+                f.mode != kModeAdaptive) ||
                // The four records are equal, so c00's stands for all.
-               (!low_contrast(c00, c10, c01, c11, kGlassContrast[is_small(f, w, h)]) &&
-                sees_glass(f, c00))) {
+               (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
       kind = kSplit;
     }
     if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
@@ -558,7 +573,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       continue;
     }
     if (kind == kInterpolated) {
-      interpolate(c, n, c00.packed, c10.packed, c01.packed, c11.packed);
+      interpolate(c, n, cv);
       continue;
     }
     if (base) {
@@ -609,36 +624,29 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       copy_slot(n.h, w, n.right, b);
     }
     if (n.splitX && n.splitY) copy_slot(n.h, a, n.v, b);
-    // The children: quadrants (qx, qy), two halves when one side is not
-    // split (then xm = x1 or ym = y1, and that side's arrays are the block's).
-    // The children of several split blocks form one group, up to kGroup
-    // blocks: their samples go in one batch.
+    // The children: quadrants, two halves when one side is not split (then
+    // xm = x1 or ym = y1, and that side's arrays are the block's), in the
+    // order top-left, top-right, bottom-left, bottom-right. The children of
+    // several split blocks form one group, up to kGroup blocks: their
+    // samples go in one batch.
     int nx = n.splitX ? 2 : 1, ny = n.splitY ? 2 : 1;
     if (k + nx * ny > kGroup) {
       process_group(c, kids, k);
       k = 0;
     }
-    // Per column (qx) and row (qy) of children, chosen once per block.
-    int x0s[2] = {n.x0, n.xm}, x1s[2] = {n.splitX ? n.xm : n.x1, n.x1};
-    int xEnds[2] = {n.splitX ? n.xm : n.xEnd, n.xEnd}, dxs[2] = {0, a};
-    int y0s[2] = {n.y0, n.ym}, y1s[2] = {n.splitY ? n.ym : n.y1, n.y1};
-    int yEnds[2] = {n.splitY ? n.ym : n.yEnd, n.yEnd}, dys[2] = {0, b};
-    Edge lefts[2] = {n.left, n.v}, rights[2] = {n.splitX ? n.v : n.right, n.right};
-    Edge tops[2] = {n.top, n.h}, bottoms[2] = {n.splitY ? n.h : n.bottom, n.bottom};
-    for (int qy = 0; qy < ny; ++qy)
-      for (int qx = 0; qx < nx; ++qx) {
-        Node& kid = kids[k++];
-        kid.x0 = x0s[qx];
-        kid.x1 = x1s[qx];
-        kid.xEnd = xEnds[qx];
-        kid.y0 = y0s[qy];
-        kid.y1 = y1s[qy];
-        kid.yEnd = yEnds[qy];
-        kid.top = tops[qy] + dxs[qx];
-        kid.bottom = bottoms[qy] + dxs[qx];
-        kid.left = lefts[qx] + dys[qy];
-        kid.right = rights[qx] + dys[qy];
-      }
+    // The left column's right end and the top row's bottom end.
+    int xa = n.splitX ? n.xm : n.x1, xe = n.splitX ? n.xm : n.xEnd;
+    int ya = n.splitY ? n.ym : n.y1, ye = n.splitY ? n.ym : n.yEnd;
+    Edge right = n.splitX ? n.v : n.right, bottom = n.splitY ? n.h : n.bottom;
+    put_kid(kids[k++], n.x0, n.y0, xa, ya, xe, ye, n.top, bottom, n.left, right);
+    if (n.splitX)
+      put_kid(kids[k++], n.xm, n.y0, n.x1, ya, n.xEnd, ye, n.top + a, bottom + a, n.v, n.right);
+    if (n.splitY) {
+      put_kid(kids[k++], n.x0, n.ym, xa, n.y1, xe, n.yEnd, n.h, n.bottom, n.left + b, right + b);
+      if (n.splitX)
+        put_kid(kids[k++], n.xm, n.ym, n.x1, n.y1, n.xEnd, n.yEnd, n.h + a, n.bottom + a, n.v + b,
+                n.right + b);
+    }
   }
   if (k) process_group(c, kids, k);
   c.used = used;
@@ -654,17 +662,34 @@ RT64K_HOT_ABI int line_owner(int k, int bands) {
 
 RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   const AdaptiveFrame& f = *c.f;
-  Edge line = line_edge(f, k);
-  for (int i = 0; i < f.gridW; ++i) // the corners only (open_side: the rest)
-    line[grid_coord(i, f.baseBlock, f.width)].state = kUnknown;
-  int y = grid_coord(k, f.baseBlock, f.height);
+  int y = grid_coord(k, f.baseBlock, f.height), last = f.width - 1;
   // A one-pixel-high image: both lines are row 0; the band reads line 0 as
-  // its bottom too (run_band), so line 1 is not traced.
+  // its bottom too (run_band), so line 1 is neither traced nor read.
   if (k > 0 && y == grid_coord(k - 1, f.baseBlock, f.height)) return;
-  for (int i = 0; i < f.gridW; ++i) {
-    int x = grid_coord(i, f.baseBlock, f.width);
-    request(c, x, y, line + x);
+  // The corners (grid_coord: x = 0, baseBlock, ..., and the last column),
+  // each asked for as request() would, into the batch (the slots between
+  // them are open_side's); n kept in a register (the build has no strict
+  // aliasing).
+  Edge line = line_edge(f, k);
+  Batch& b = c.batch;
+  int n = b.n;
+  float fy = (float)y;
+  for (int x = 0;; x += f.baseBlock) {
+    if (x > last) x = last;
+    Edge e = line + x;
+    e->state = kPending;
+    b.x[n] = (float)x;
+    b.y[n] = fy;
+    b.out[n] = e;
+    b.pixel[n] = nullptr;
+    if (++n == kBatch) {
+      b.n = n;
+      flush(c);
+      n = 0;
+    }
+    if (x == last) break;
   }
+  b.n = n;
 }
 
 RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, int slot, RayStats* stats) {
@@ -730,12 +755,14 @@ void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
   int w = xEnd - x0;
   u32* row = fb + y0 * stride + x0;
-  for (int y = y0; y < yEnd; ++y, row += stride) {
-    if (w == 8) { // (the common case: an 8-px block's row)
+  if (w == 8) { // (the common case: an 8-px block's rows)
+    for (int y = y0; y < yEnd; ++y, row += stride) {
       *(v4i_unaligned*)row = four;
       *(v4i_unaligned*)(row + 4) = four;
-      continue;
     }
+    return;
+  }
+  for (int y = y0; y < yEnd; ++y, row += stride) {
     int x = 0;
     for (; x + 4 <= w; x += 4)
       *(v4i_unaligned*)(row + x) = four;
@@ -820,14 +847,22 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s q1 = q0 + dq, d1 = d0 + dd;
   v8s q2 = q1 + dq, d2 = d1 + dd;
   v8s q3 = q2 + dq, d3 = d2 + dd;
-  for (int r = 0; r < size; ++r, row += stride) {
-    v16c out0 = __builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
-    q0 += d0;
-    q1 += d1;
-    *(v4i_unaligned*)row = (v4i)out0; // (s = 1 returned above)
-    if (size == 4) continue;
+  if (size == 4) {
+    for (int r = 0; r < 4; ++r, row += stride) {
+      *(v4i_unaligned*)row =
+          (v4i)__builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
+      q0 += d0;
+      q1 += d1;
+    }
+    return;
+  }
+  for (int r = 0; r < 8; ++r, row += stride) { // (s = 3; s = 1 returned above)
+    *(v4i_unaligned*)row =
+        (v4i)__builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
     *(v4i_unaligned*)(row + 4) =
         (v4i)__builtin_ia32_packuswb128(round_even(q2, shift, one), round_even(q3, shift, one));
+    q0 += d0;
+    q1 += d1;
     q2 += d2;
     q3 += d3;
   }

@@ -6,7 +6,7 @@
 // as they do for the Linux tool. No C runtime: the linker enters at
 // intro_entry(), which never returns; every way out is ExitProcess (0 for Esc,
 // closing the window, the end of /once and of /bench; 1 when the system
-// refuses memory, a semaphore or the window).
+// refuses memory, a thread or the window).
 #define WIN32_LEAN_AND_MEAN
 #define _WIN32_WINNT 0x0601 // Windows 7: SetProcessDPIAware, AttachConsole
 #include <windows.h>
@@ -41,8 +41,7 @@ constexpr int kMinBlock = 2;
 // rows (75 bands at 600 rows keep every core busy to the end of a frame; the
 // last band of a height that 8 does not divide is shorter).
 constexpr int kBandRows = 8;
-// Render threads (the workers and the main thread): one per logical
-// processor, at most this many (the most
+// Render threads: one per logical processor, at most this many (the most
 // GetSystemInfo reports for one processor group).
 constexpr DWORD kMaxWorkers = 64;
 
@@ -80,16 +79,16 @@ constexpr DWORD kFullscreenStyle = WS_POPUP; // no caption, no border
 // message wait and wakes at least this often to check /once's end.
 constexpr DWORD kMinimisedWaitMs = 250;
 
-// One frame of work items, shared by the main thread and the workers (both
-// run items). The adaptive renderer hands out its bands itself
-// (adaptive_take, adaptive.h): one pass, no barrier; an odd band is handed
-// out once its two even neighbours are done, and a thread told to wait
-// (every even band taken, the next odd band's neighbours still running)
-// yields and asks again. That cannot deadlock: even bands wait for nothing,
-// so the bands the waiting thread needs finish (on other threads, or on
-// this core once SwitchToThread lets a preempted one run). The ordering of the samples one band
-// writes before the next reads them is the core's (release/acquire done flags). Without
-// RT64K_ADAPTIVE the items are bands of rows taken from `nextItem`.
+// One frame of work items, shared by the main thread and the workers. The
+// adaptive renderer hands out its bands itself (adaptive_take, adaptive.h):
+// one pass, no barrier; an odd band is handed out once its two even
+// neighbours are done, and a worker told to wait (every even band taken,
+// the next odd band's neighbours still running) yields and asks again. That
+// cannot deadlock: even bands wait for nothing, so the bands the waiting
+// worker needs finish (on other workers, or on this core once SwitchToThread
+// lets a preempted one run). The ordering of the samples one band writes
+// before the next reads them is the core's (release/acquire done flags).
+// Without RT64K_ADAPTIVE the items are bands of rows taken from `nextItem`.
 //
 // The job lives on the main thread's stack (no global to address; see
 // audio.cpp for the exe's one global, in .bss). The main thread writes
@@ -100,47 +99,39 @@ struct FrameJob {
   Scene scene;
   AdaptiveFrame frame;      // frame.scene points at `scene`
   HANDLE start;             // semaphore: one count per worker per frame
-  HANDLE done;              // semaphore (0 or 1): released by a worker that finishes last
+  HANDLE done;              // semaphore (0 or 1): released by the last worker to finish
   LONG items;               // bands of rows (without RT64K_ADAPTIVE)
   volatile LONG nextItem;   // next item to take (without RT64K_ADAPTIVE)
   volatile LONG busyCounts; // counts of `start` taken and not yet handed back
 };
 
-// Pulls the frame's items from the shared queue until none is left and calls
-// the core once per item, on the calling thread (a worker or the main
-// thread), then hands back the caller's count of the frame and returns true
-// if it was the last one: every item of the frame is done then.
-bool run_items(FrameJob& job) {
-  const AdaptiveFrame& f = job.frame;
-  RayStats stats; // adaptive_run adds to it; intro.exe does not report rays
-  if (RT64K_ADAPTIVE) {
-    for (int band; (band = adaptive_take(f)) != kAdaptiveDone;) {
-      if (band == kAdaptiveWait)
-        SwitchToThread(); // lets a preempted neighbour's thread finish on this core
-      else
-        adaptive_run(f, band, &stats);
-    }
-  } else {
-    for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;) {
-      int rowEnd = (item + 1) * kBandRows;
-      render_full_rows(job.scene, f.fb, f.width, f.height, f.stride, item * kBandRows,
-                       rowEnd < f.height ? rowEnd : f.height, nullptr);
-    }
-  }
-  return InterlockedDecrement(&job.busyCounts) == 0;
-}
-
-// A render worker. Each frame it takes one count of job.start and runs
-// items; the worker that hands back the frame's last count signals job.done
-// (the main thread's count is handed back before, see finish_frame). A
-// worker may take two counts of one frame; every item is still finished
+// A render worker. Each frame it takes one count of job.start, pulls items
+// from the shared counter until none is left and calls the core once per
+// item; the worker that hands back the frame's last count signals job.done.
+// A worker may take two counts of one frame; every item is still finished
 // before its own count is handed back, so "all counts back" means "all
 // items done".
 DWORD WINAPI render_worker(void* parameter) {
   FrameJob& job = *(FrameJob*)parameter;
+  const AdaptiveFrame& f = job.frame;
   for (;;) {
     WaitForSingleObject(job.start, INFINITE);
-    if (run_items(job)) ReleaseSemaphore(job.done, 1, nullptr);
+    RayStats stats; // adaptive_run adds to it; intro.exe does not report rays
+    if (RT64K_ADAPTIVE) {
+      for (int band; (band = adaptive_take(f)) != kAdaptiveDone;) {
+        if (band == kAdaptiveWait)
+          SwitchToThread(); // lets a preempted neighbour's worker finish on this core
+        else
+          adaptive_run(f, band, &stats);
+      }
+    } else {
+      for (LONG item; (item = InterlockedIncrement(&job.nextItem) - 1) < job.items;) {
+        int rowEnd = (item + 1) * kBandRows;
+        render_full_rows(job.scene, f.fb, f.width, f.height, f.stride, item * kBandRows,
+                         rowEnd < f.height ? rowEnd : f.height, nullptr);
+      }
+    }
+    if (InterlockedDecrement(&job.busyCounts) == 0) ReleaseSemaphore(job.done, 1, nullptr);
   }
 }
 
@@ -189,24 +180,16 @@ void wait_pumping(HANDLE object) {
   }
 }
 
-// Starts rendering job.scene into job.frame.fb: wakes the workers, which
-// begin at once; the main thread joins them in finish_frame.
-void start_frame(FrameJob& job, LONG workers) {
+// Renders job.scene into job.frame.fb on all workers and returns when done.
+void render_frame(FrameJob& job, LONG workers) {
   if (RT64K_ADAPTIVE)
     adaptive_begin(job.frame);
   else
     job.items = (job.frame.height + kBandRows - 1) / kBandRows;
   job.nextItem = 0;
-  job.busyCounts = workers + 1; // the workers' counts and the main thread's
+  job.busyCounts = workers;
   ReleaseSemaphore(job.start, workers, nullptr);
-}
-
-// The main thread's share of the frame start_frame began: it runs items
-// until none is left, then, unless its count was the last, waits (pumping
-// messages) for the worker that hands back the last one. Returns when every
-// item is done.
-void finish_frame(FrameJob& job) {
-  if (!run_items(job)) wait_pumping(job.done);
+  wait_pumping(job.done);
 }
 
 double seconds_between(LARGE_INTEGER from, LARGE_INTEGER to, LARGE_INTEGER frequency) {
@@ -261,10 +244,10 @@ double process_cpu_seconds() {
   return (ticks(kernel) + ticks(user)) * kFileTimeTick;
 }
 
-// /bench's figures: frames shown at width x height, rendered on `threads`
-// threads, in `seconds` (wall clock), the slowest frame (the longest gap
-// between two blits, see run) in `slowestSeconds`.
-[[noreturn]] void finish_bench(int width, int height, LONG threads, double seconds,
+// /bench's figures: frames rendered at width x height on `workers` threads
+// in `seconds` (wall clock), the slowest frame (scene, render, captions and
+// blit) in `slowestSeconds`.
+[[noreturn]] void finish_bench(int width, int height, LONG workers, double seconds,
                                double slowestSeconds) {
   char storage[kReportChars];
   TextBuffer b = text_buffer(storage, kReportChars);
@@ -275,7 +258,7 @@ double process_cpu_seconds() {
   append(b, "x");
   append_uint(b, (unsigned)height);
   append(b, " on ");
-  append_uint(b, (unsigned long long)threads);
+  append_uint(b, (unsigned long long)workers);
   append(b, " threads in ");
   append_fixed(b, seconds, kBenchDecimals);
   append(b, " s = ");
@@ -405,11 +388,9 @@ bool idle_while_minimised(HWND window) {
   f.minBlock = kMinBlock;
   f.mode = kModeAdaptive;
   f.kinds = nullptr;
-  // The two framebuffers (one rendered while the other is shown) and the
-  // corner samples, allocated once for the whole run.
-  const SIZE_T pixels = (SIZE_T)f.width * f.height;
-  u32* fb = (u32*)VirtualAlloc(nullptr, 2 * pixels * sizeof(u32), MEM_COMMIT | MEM_RESERVE,
-                               PAGE_READWRITE);
+  // The framebuffer and the corner samples, allocated once for the whole run.
+  f.fb = (u32*)VirtualAlloc(nullptr, (SIZE_T)f.width * f.height * sizeof(u32),
+                            MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
   f.corners = (CornerSample*)VirtualAlloc(
       nullptr, adaptive_corner_count(f.width, f.height, kBaseBlock) * sizeof(CornerSample),
       MEM_COMMIT | MEM_RESERVE, PAGE_READWRITE);
@@ -417,18 +398,17 @@ bool idle_while_minimised(HWND window) {
   // A semaphore of at most one count where an auto-reset event would do: released
   // once per frame and taken by the main thread's wait, the same; two imports fewer.
   job.done = CreateSemaphoreA(nullptr, 0, 1, nullptr);
-  if (!fb || !f.corners || !job.start || !job.done) ExitProcess(1);
+  if (!f.fb || !f.corners || !job.start || !job.done) ExitProcess(1);
 
   SYSTEM_INFO system;
   GetSystemInfo(&system);
   DWORD cores = system.dwNumberOfProcessors;
   if (cores < 1) cores = 1;
   if (cores > kMaxWorkers) cores = kMaxWorkers;
-  // One worker per core but one: the main thread renders too (finish_frame).
-  // Without any (one core, or no thread granted) it renders alone.
   LONG workers = 0;
-  for (DWORD i = 1; i < cores; ++i)
+  for (DWORD i = 0; i < cores; ++i)
     if (CreateThread(nullptr, 0, render_worker, &job, 0, nullptr)) ++workers;
+  if (workers == 0) ExitProcess(1);
 
   // Music, unless its clock is not wanted (/hold, /bench) or /mute: the loop
   // is synthesised on a thread of its own while the window opens and shows
@@ -469,41 +449,17 @@ bool idle_while_minimised(HWND window) {
   // /once ends at the end of the timeline loop the start time lies in (64 s
   // for any start in [0, 64)).
   const double onceEnd = once_end_seconds(options.startSeconds);
-  // The frame rendered and not yet shown: its time, the music's position
-  // that time came from, its framebuffer. It is shown while the next frame
-  // renders (the first frame at once: the music starts after it).
-  bool ready = false;
-  double readyT = 0.0, readyPlayed = 0.0;
-  u32* readyFb = nullptr;
-  double slowest = 0.0; // seconds: the longest gap between two frames shown (/bench)
-  int shown = 0;        // frames shown (/bench ends after kBenchFrames)
+  double slowest = 0.0; // seconds: the slowest frame so far (/bench reports it)
   bool playing = false;
-  LARGE_INTEGER frequency, firstFrame, clockStart, lastShown, now;
+  LARGE_INTEGER frequency, firstFrame, clockStart, frameStart, now;
   QueryPerformanceFrequency(&frequency);
   QueryPerformanceCounter(&firstFrame);
-  clockStart = lastShown = firstFrame;
-  // Shows the ready frame: its captions, then the blit; the gap since the
-  // frame shown before it (for the first frame: since just before it was
-  // begun) is what /bench's slowest frame measures.
-  auto show_ready = [&]() {
-    if (RT64K_CAPTIONS) overlay_draw(readyFb, f.width, f.height, f.stride, timeline_wrap(readyT));
-    StretchDIBits(dc, layout.pictureX, layout.pictureY, layout.pictureW, layout.pictureH, 0, 0,
-                  f.width, f.height, readyFb, &dib, DIB_RGB_COLORS, SRCCOPY);
-    QueryPerformanceCounter(&now);
-    double gap = seconds_between(lastShown, now, frequency);
-    if (gap > slowest) slowest = gap;
-    lastShown = now;
-    if (bench && ++shown == kBenchFrames)
-      finish_bench(f.width, f.height, workers + 1, seconds_between(firstFrame, now, frequency),
-                   slowest);
-    if (RT64K_LOG && options.log)
-      log_frame(readyT, readyPlayed, seconds_between(firstFrame, now, frequency));
-  };
+  clockStart = firstFrame;
   for (int frame = 0;; ++frame) {
     // Time is the music's position, or real elapsed time, never the frame
     // count; except under /bench, whose fixed steps make runs comparable,
-    // and /hold. It is read as the frame is begun. The first frame shows the
-    // start time while the music is prepared; the clock starts after it.
+    // and /hold. The first frame shows the start time while the music is
+    // prepared; the clock starts after it.
     double t = options.startSeconds, played = -1.0;
     if (bench) {
       t = kBenchFirst + frame * kBenchStep;
@@ -516,26 +472,22 @@ bool idle_while_minimised(HWND window) {
       }
     }
     if (RT64K_ONCE && options.once && !bench && t >= onceEnd) quit();
-    pump_messages(); // Esc: the main thread renders too, it may never wait below
-    if (frame > 0 && !bench && idle_while_minimised(window)) {
-      ready = false; // too old to show once the window is back
-      continue;
-    }
-    // Two framebuffers in turn: the workers render into one while the main
-    // thread shows the other.
-    f.fb = fb + (frame & 1) * pixels;
+    if (frame > 0 && !bench && idle_while_minimised(window)) continue;
+    QueryPerformanceCounter(&frameStart);
     // Scene 2's renderer-visualisation segment tints the blocks.
     f.showBlocks = build_timeline_scene(job.scene, t).showBlocks;
-    start_frame(job, workers);
-    if (ready) show_ready(); // the frame before, while this one renders
-    finish_frame(job);
-    ready = true;
-    readyT = t;
-    readyPlayed = played;
-    readyFb = f.fb;
+    render_frame(job, workers);
+    if (RT64K_CAPTIONS) overlay_draw(f.fb, f.width, f.height, f.stride, timeline_wrap(t));
+    StretchDIBits(dc, layout.pictureX, layout.pictureY, layout.pictureW, layout.pictureH, 0, 0,
+                  f.width, f.height, f.fb, &dib, DIB_RGB_COLORS, SRCCOPY);
+    QueryPerformanceCounter(&now);
+    double frameSeconds = seconds_between(frameStart, now, frequency);
+    if (frameSeconds > slowest) slowest = frameSeconds;
+    if (bench && frame + 1 == kBenchFrames)
+      finish_bench(f.width, f.height, workers, seconds_between(firstFrame, now, frequency),
+                   slowest);
+    if (RT64K_LOG && options.log) log_frame(t, played, seconds_between(firstFrame, now, frequency));
     if (frame == 0) {
-      show_ready();
-      ready = false;
       if (RT64K_MUSIC && synth) {
         wait_pumping(synth);
         // The loop from the start time's place in it, to the sample.

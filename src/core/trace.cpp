@@ -190,7 +190,8 @@ constexpr int kFindHit = -2;
 // the native tool holds both: docs/tracer-speed.md, round eleven).
 template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
-                                     int depth, float weight, u32 skip, const RootNode* root) {
+                                     int depth, float weight, u32 skip, const Pending* kids,
+                                     u32 kidsWaiting, Vec3 sumIn, bool glass) {
   const Scene& s = *ctx.scene;
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
@@ -204,22 +205,30 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   if (Resume) {
-    // Start at the root's first waiting child, as the loop's end would pop
-    // it (the loop itself as without a root: a test in it for the root's
-    // case cost 0.5 % of a frame).
-    // The first is read in place; a refracted ray after a reflected one
-    // waits in its slot.
-    waiting = root->waiting;
-    sum = root->sum;
-    int slot = 31 - __builtin_clz(waiting);
-    waiting ^= 1u << slot;
-    if (waiting) pending[kRootSlot] = root->child[0];
-    const Pending& next = root->child[slot - kRootSlot];
-    cur = &next.ray;
-    weight = next.weight;
-    depth = slot >> 1;
-    skip = next.skip;
-    pastGlass = next.pastGlass;
+    // A part of a primary ray's tree (trace_children4): the sum so far, and
+    // either the node `first` itself (kids null: depth, weight, skip, glass
+    // as its Pending holds them; id and hit as found, or kFindHit) or the
+    // waiting children `kids` of a node shaded elsewhere (their bits in
+    // kidsWaiting: kids[0] the refracted ray's slot, kids[1] the
+    // reflected's), started at the first as the loop's end would pop it (the
+    // loop itself as without them: a test in it cost 0.5 % of a frame). The
+    // first is read in place; a refracted ray after a reflected one waits in
+    // its slot.
+    sum = sumIn;
+    pastGlass = glass;
+    if (kids) {
+      waiting = kidsWaiting;
+      int slot = 31 - __builtin_clz(waiting);
+      waiting ^= 1u << slot;
+      int base = slot & ~1;
+      if (waiting) pending[base] = kids[0];
+      const Pending& next = kids[slot - base];
+      cur = &next.ray;
+      weight = next.weight;
+      depth = slot >> 1;
+      skip = next.skip;
+      pastGlass = next.pastGlass;
+    }
   }
   for (;;) {
     const Ray& ray = *cur;
@@ -387,6 +396,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     id = kFindHit;
   }
   // Weights are relative to the root's (1 for a primary ray: no rounding).
+  if (Resume) return sum;
   return sum * (1.0f / rootWeight);
 }
 
@@ -394,11 +404,19 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
   Hit hit;
   // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
   return trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
-                           nullptr);
+                           nullptr, 0, v3(0.0f), false);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
+  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr, 0, v3(0.0f), false);
+}
+
+int pending_hit(const Scene& s, const Pending& p, Hit& hit) {
+  u32 only = p.skip >> kOnlyShift;
+  hit.t = kHuge;
+  if (only && intersect_t(s.objects[only - 1].shape, p.ray, 0.0f, hit)) return (int)only - 1;
+  return nearest(s, p.ray, hit, range_mask(0, s.numObjects) & ~p.skip,
+                 range_mask(0, s.numForeground));
 }
 
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
@@ -413,11 +431,35 @@ __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode 
   Hit hit;
   for (; lanes; lanes &= lanes - 1) {
     int k = __builtin_ctz(lanes);
-    if (paths) ctx.record = &paths[k];
-    if (root[k].waiting)
-      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root[k]);
-    else
-      color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
+    PathRecord* rec = paths ? &paths[k] : ctx.record;
+    ctx.record = rec;
+    const RootNode& r = root[k];
+    Vec3 sum = r.sum;
+    // The tree in parts, one call site: each child (the reflected one
+    // first, as the tree pops it) with its subtree; a child shaded ahead
+    // enters the record and the sum here and its children are the part.
+    for (u32 todo = r.waiting; todo;) {
+      int slot = 31 - __builtin_clz(todo);
+      todo ^= 1u << slot;
+      const PreNode& pre = r.pre[slot - kRootSlot];
+      const Pending& node = r.child[slot - kRootSlot];
+      const Pending* kids = nullptr;
+      u32 kidsWaiting = 0;
+      int id = kFindHit;
+      if (r.shaded >> slot & 1) {
+        if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
+        sum += pre.color * node.weight;
+        if (!pre.waiting) continue;
+        kids = pre.child;
+        kidsWaiting = pre.waiting;
+      } else if (r.found >> slot & 1) {
+        id = pre.id;
+        hit = pre.hit;
+      }
+      sum = trace_tree<true>(ctx, node.ray, id, hit, 2, node.weight, node.skip, kids, kidsWaiting,
+                             sum, node.pastGlass);
+    }
+    color[k] = sum * 1.0f; // sum * (1 / rootWeight)
   }
 }
 

@@ -116,15 +116,42 @@ constexpr int kOnlyShift = 16;
 // The slots of a primary ray's children (depth 2): kRootSlot the refracted
 // ray, kRootSlot + 1 the reflected one.
 constexpr int kRootSlot = 4;
+// A primary ray's child (depth 2) whose hit, and maybe its whole node, the
+// packet tracer found ahead of the tree (packet/shade.h, "the second
+// level"): `id` and `hit` as trace_tree's nearest-hit step gives them for
+// the child's ray; when shaded, also the node's own colour (ambient plus
+// the light terms, not yet times its weight), its PathRecord node (id + 1
+// and the light bits, highlight bits as if recorded), whether it records,
+// and its children (child[0] in slot 6 for the refracted ray, child[1] in
+// slot 7 for the reflected one, each valid where its bit is set in
+// `waiting`). Its rays were counted when it was shaded.
+struct PreNode {
+  Pending child[2];
+  Hit hit;
+  int id;
+  u32 node;
+  u32 waiting;
+  bool records;
+  Vec3 color;
+};
 // A primary ray's node (depth 1, weight 1) shaded by the caller, exactly as
 // trace_hit() would have: its children (child[0] in slot kRootSlot, child[1]
 // in kRootSlot + 1, each valid where its bit 1 << slot is set in `waiting`)
 // and the root's share of the sum, v3(0) + colour * 1 (packet/shade.h).
+// A child whose bit is set in `found` has its hit in pre[slot - kRootSlot];
+// one whose bit is set in `shaded` (a subset of found) its whole node.
 struct RootNode {
   Pending child[2];
   u32 waiting;
   Vec3 sum;
+  u32 found, shaded;
+  PreNode pre[2];
 };
+// trace_tree's nearest-hit step for a waiting ray (the lone-solid test of
+// skip's kOnlyShift bits, else nearest() among the objects not skipped):
+// the object index or -1, with hit's t, piece and local, bit for bit the
+// tree's own (packet/shade.cpp finds the primary rays' children with it).
+RT64K_HOT_ABI int pending_hit(const Scene& s, const Pending& p, Hit& hit);
 // trace_hit() of four primary rays from after their root nodes: for each
 // lane k of `lanes` (bits), in order, the children's subtrees of root[k]
 // traced (appending their nodes to paths[k] when paths is set, which holds

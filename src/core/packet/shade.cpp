@@ -126,6 +126,234 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
   return cut ? zero : r;
 }
 
+
+// One child slot (c: 0 the refracted ray, 1 the reflected one) of the lanes
+// `have`, whose rays (root[k].child[c], depth 2) all hit object `id` (a
+// sphere, plane or triangle), found ahead in root[k].pre[c]: each lane's
+// node shaded as trace_tree shades it (the normal, the spawn of its
+// children, the light loop with its weight's cuts), stored in pre[c]: its
+// colour, record node, whether it records, its children.
+__attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4], u32 have, int c,
+                                            int id, int maxDepth) {
+  const Scene& s = *ctx.scene;
+  const Object& o = s.objects[id];
+  const Material& mt = o.mat;
+  const Shape& sh = o.shape;
+  int first = __builtin_ctz(have);
+  const float *r0[4], *r1[4];
+  alignas(16) float tt[4];
+  alignas(16) i32 pc[4];
+  for (int k = 0; k < 4; ++k) {
+    int src = have >> k & 1 ? k : first;
+    const Pending& p = root[src].child[c];
+    r0[k] = &p.ray.org.x; // org, dir.x
+    r1[k] = &p.ray.dir.y; // dir.y, dir.z, weight, skip
+    tt[k] = root[src].pre[c].hit.t;
+    pc[k] = root[src].pre[c].hit.piece;
+  }
+  f4 a[4], b[4];
+  columns(r0, a);
+  columns(r1, b);
+  V4 O = {a[0], a[1], a[2]}, D = {a[3], b[0], b[1]};
+  f4 W = b[2], T4 = *(f4*)tt;
+  // Every root's child in slot 0 was refracted, none in slot 1 (a root's
+  // ray is primary: it has passed no glass).
+  bool pastGlass = c == 0;
+  f4 zero = f4_of(0.0f), one = f4_of(1.0f);
+  V4 A = splat(sh.a), N;
+  i4 front;
+  u32 self = 1u << id;
+  if (sh.kind == kPlane) {
+    front = *(i4*)pc != i4_of(0); // plane_normal()
+    N = select(front, A, V4{-A.x, -A.y, -A.z});
+  } else if (sh.kind == kTriangle) {
+    V4 out = splat(Vec3{sh.r0, sh.r1, sh.h});
+    front = dot(out, D) < zero;
+    N = select(front, out, V4{-out.x, -out.y, -out.z});
+  } else {
+    // sphere_outward() (shapes.h): m = (org - centre) + t dir where |m|^2
+    // lies in [r^2 / 4, 4 r^2], the other lanes by the scalar function.
+    V4 m = (O - A) + D * T4;
+    f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
+    u32 ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
+    V4 out = m * (1.0f / lane_sqrt(len2));
+    for (u32 q = have & ~ok; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      Vec3 w = sphere_outward(sh, root[k].child[c].ray, root[k].pre[c].hit);
+      out.x[k] = w.x;
+      out.y[k] = w.y;
+      out.z[k] = w.z;
+    }
+    front = dot(out, D) < zero;
+    N = select(front, out, V4{-out.x, -out.y, -out.z});
+  }
+  i4 live = lanes_of(have);
+  V4 p = O + D * T4;
+  V4 col = splat(s.ambient) * splat(mt.color);
+  f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
+  alignas(16) float off[4];
+  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
+  V4 lightOrg = p + N * *(f4*)off;
+  bool flat = sh.kind == kPlane || sh.kind == kTriangle;
+  alignas(16) i32 frontOf[4];
+  *(i4*)frontOf = front;
+  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
+  alignas(16) u32 range[4];
+  *(i4*)range =
+      front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
+  u32 inside = closed_convex(sh) ? ~lane_bits(front) & have : 0;
+  // The record's tests: recordable (depth 2 <= kRecordDepth) and records.
+  i4 recordable = W >= f4_of(kRecordWeight);
+  u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
+
+  u32 waiting[4] = {0, 0, 0, 0};
+  if (2 < maxDepth) {
+    f4 transmit = f4_of(mt.transmit);
+    bool glass = mt.transmit > 0;
+    f4 eta = glass ? (front ? f4_of(1.0f / mt.ior) : f4_of(mt.ior)) : one;
+    V4 negD = {-D.x, -D.y, -D.z};
+    f4 cosI = glass ? dot(N, negD) : one;
+    f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
+    i4 tir = glass ? sin2T > one : i4_of(0);
+    alignas(16) float fR[4], dR[4], dT[4];
+    *(f4*)fR = f4_of(mt.reflect) + (tir ? transmit : zero);
+    u32 castR = lane_bits((*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
+    u32 castT = glass ? lane_bits(~tir & (W * transmit >= f4_of(kMinRayWeight)) & live) : 0;
+    V4 R = D - N * (2.0f * dot(N, D));
+    *(f4*)dR = dot(R, N);
+    PendingRows rayR, rayT;
+    if (castR) rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, W * *(f4*)fR);
+    if (castT) {
+      V4 t = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
+      f4 len2 = dot(t, t);
+      V4 T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
+      *(f4*)dT = dot(T, N);
+      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, W * transmit);
+    }
+    bool alone = s.aloneMask & self;
+    for (u32 q = castR | castT; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      u32 only = alone && off[k] <= 0.5f * kAloneSlack * sh.size ? (u32)(id + 1) << kOnlyShift : 0;
+      PreNode& pre = root[k].pre[c];
+      if (castR >> k & 1) {
+        u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
+        rayR.put(k, pre.child[1], skip, pastGlass);
+        waiting[k] |= 1u << (kRootSlot + 3);
+        ++ctx.stats.secondary;
+      }
+      if (castT >> k & 1) {
+        u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
+        rayT.put(k, pre.child[0], skip, true);
+        waiting[k] |= 1u << (kRootSlot + 2);
+        ++ctx.stats.secondary;
+      }
+    }
+  }
+
+  u32 bits[4] = {0, 0, 0, 0};
+  Lanes3 lo;
+  lo.set(lightOrg);
+  f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
+  f4 shininess = f4_of(mt.shininess);
+  V4 mc = splat(mt.color);
+  for (int li = 0; li < s.numLights; ++li) {
+    const Light& light = s.lights[li];
+    V4 toLight = splat(light.pos) - lightOrg;
+    alignas(16) float dist[4];
+    *(f4*)dist = lane_sqrt(dot(toLight, toLight));
+    V4 L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
+    f4 NdotL = dot(N, L);
+    u32 lit = lane_bits((NdotL > zero) & live);
+    if (!lit) continue;
+    f4 spec = zero;
+    V4 term;
+    if (s.model == kPhong) {
+      f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
+      i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+      if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
+      term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+    } else {
+      spec = specular * cook_torrance4(N, D, L, f4_of(mt.roughness), f4_of(mt.f0)) * NdotL;
+      term = mc * (diffuse * NdotL + spec) * splat(light.color);
+    }
+    // The shadow ray where the record needs it or the term can move the
+    // pixel by kShadowSkip (max_abs(lit) = max(|x|, max(|y|, |z|))).
+    f4 big = max4(lane_abs(term.x), max4(lane_abs(term.y), lane_abs(term.z)));
+    u32 cast = lit & lane_bits(recordable | (W * big >= f4_of(kShadowSkip)));
+    u32 shadowed = 0;
+    V4 tv = {one, one, one};
+    if (cast) {
+      alignas(16) u32 objects[4];
+      *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
+      u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & cast;
+      ctx.stats.shadow += 0x4332322132212110ull >> 4 * cast & 15;
+      if (cand) {
+        Lanes3 dirL, through;
+        dirL.set(L);
+        through.set(tv);
+        bool exitsLight = s.lightC[li][id] > 0;
+        for (u32 q = cand; q; q &= q - 1) {
+          int k = __builtin_ctz(q);
+          bool exits = (inside >> k & 1) && exitsLight;
+          int code = 0;
+          Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code,
+                                   exits ? self : 0);
+          through.v[0][k] = tr.x;
+          through.v[1][k] = tr.y;
+          through.v[2][k] = tr.z;
+          shadowed |= (u32)(code == 3) << k;
+          bits[k] |= (u32)code << (5 + 3 * li);
+        }
+        tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+      }
+    }
+    i4 add = lanes_of(lit & ~shadowed);
+    col = select(add, col + term * tv, col);
+    u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
+    for (; high; high &= high - 1)
+      bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+  }
+  Lanes3 out;
+  out.set(col);
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    PreNode& pre = root[k].pre[c];
+    pre.color = out.lane(k);
+    pre.node = (u32)(id + 1) | bits[k];
+    pre.records = records >> k & 1;
+    pre.waiting = waiting[k];
+    root[k].shaded |= 1u << (kRootSlot + c);
+  }
+}
+
+// The primary rays' children (depth 2) of the lanes `lanes`: each one's hit
+// found by the tree's own step (pending_hit()), and where every lane's child
+// in a slot hits one sphere, plane or triangle, those nodes shaded in lanes
+// (shade_child4()). trace_children4() takes both up in the tree's order.
+void second4(TraceContext& ctx, RootNode root[4], u32 lanes, int maxDepth) {
+  const Scene& s = *ctx.scene;
+  for (int c = 0; c < 2; ++c) {
+    u32 slot = 1u << (kRootSlot + c), have = 0;
+    int id0 = -1;
+    bool same = true;
+    for (u32 q = lanes; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      RootNode& r = root[k];
+      if (!(r.waiting & slot)) continue;
+      PreNode& pre = r.pre[c];
+      pre.id = pending_hit(s, r.child[c], pre.hit);
+      r.found |= slot;
+      if (!have) id0 = pre.id;
+      same &= pre.id == id0;
+      have |= 1u << k;
+    }
+    if (!have || !same || id0 < 0) continue;
+    ShapeKind kind = s.objects[id0].shape.kind;
+    if (kind == kSphere || kind == kPlane || kind == kTriangle)
+      shade_child4(ctx, root, have, c, id0, maxDepth);
+  }
+}
+
 } // namespace
 
 void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h, u32 lanes,
@@ -406,6 +634,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
     root[k].waiting = waiting[k];
     root[k].sum = sum.lane(k);
+    root[k].found = 0;
+    root[k].shaded = 0;
   }
+  second4(ctx, root, lanes, maxDepth);
   trace_children4(ctx, root, lanes, paths, color);
 }

@@ -191,7 +191,7 @@ constexpr int kFindHit = -2;
 template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
                                      int depth, float weight, u32 skip, const Pending* kids,
-                                     u32 kidsWaiting, Vec3 sumIn, bool glass) {
+                                     u32 kidsWaiting, Vec3 sumIn) {
   const Scene& s = *ctx.scene;
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
@@ -205,30 +205,25 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   if (Resume) {
-    // A part of a primary ray's tree (trace_children4): the sum so far, and
-    // either the node `first` itself (kids null: depth, weight, skip, glass
-    // as its Pending holds them; id and hit as found, or kFindHit) or the
-    // waiting children `kids` of a node shaded elsewhere (their bits in
-    // kidsWaiting: kids[0] the refracted ray's slot, kids[1] the
-    // reflected's), started at the first as the loop's end would pop it (the
-    // loop itself as without them: a test in it cost 0.5 % of a frame). The
-    // first is read in place; a refracted ray after a reflected one waits in
-    // its slot.
+    // A part of a primary ray's tree (trace_children4): the sum so far and
+    // waiting rays of one depth, `kids` (their bits in kidsWaiting, a pair
+    // of slots: kids[0] the refracted ray's, kids[1] the reflected's),
+    // started at the first as the loop's end would pop it (the loop itself
+    // as without them: a test in it cost 0.5 % of a frame). The first is
+    // read in place; a refracted ray after a reflected one waits in its
+    // slot.
     sum = sumIn;
-    pastGlass = glass;
-    if (kids) {
-      waiting = kidsWaiting;
-      int slot = 31 - __builtin_clz(waiting);
-      waiting ^= 1u << slot;
-      int base = slot & ~1;
-      if (waiting) pending[base] = kids[0];
-      const Pending& next = kids[slot - base];
-      cur = &next.ray;
-      weight = next.weight;
-      depth = slot >> 1;
-      skip = next.skip;
-      pastGlass = next.pastGlass;
-    }
+    waiting = kidsWaiting;
+    int slot = 31 - __builtin_clz(waiting);
+    waiting ^= 1u << slot;
+    int base = slot & ~1;
+    if (waiting) pending[base] = kids[0];
+    const Pending& next = kids[slot - base];
+    cur = &next.ray;
+    weight = next.weight;
+    depth = slot >> 1;
+    skip = next.skip;
+    pastGlass = next.pastGlass;
   }
   for (;;) {
     const Ray& ray = *cur;
@@ -404,11 +399,11 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
   Hit hit;
   // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
   return trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
-                           nullptr, 0, v3(0.0f), false);
+                           nullptr, 0, v3(0.0f));
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr, 0, v3(0.0f), false);
+  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr, 0, v3(0.0f));
 }
 
 int pending_hit(const Scene& s, const Pending& p, Hit& hit) {
@@ -423,43 +418,44 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
   return shadow_test(s, ray, dist, mask, code, exits);
 }
 
-// The tree inlined (flatten: trace_tree<true> has no other caller), so that
-// its frame, register saves and per-scene masks are set up once a packet
-// rather than once a lane.
+// A lane whose refracted child was shaded ahead (packet/shade.h, the
+// second level): the tree in parts, the reflected child's subtree first (as
+// the tree pops it), then the shaded child entering the record and the sum
+// here, then its children's subtrees. Out of line, with its own copy of the
+// tree: most lanes take trace_children4's one call.
+__attribute__((flatten, noinline)) static Vec3 trace_split(TraceContext& ctx, const RootNode& r,
+                                                         Hit& hit) {
+  Vec3 sum = r.sum;
+  const u32 reflected = 1u << (kRootSlot + 1);
+  if (r.waiting & reflected)
+    sum = trace_tree<true>(ctx, r.child[1].ray, kFindHit, hit, 2, 1.0f, 0, r.child, reflected, sum);
+  const PreNode& pre = r.pre[0];
+  PathRecord* rec = ctx.record;
+  if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
+  sum += pre.color * r.child[0].weight;
+  if (pre.waiting)
+    sum = trace_tree<true>(ctx, pre.child[0].ray, kFindHit, hit, 3, 1.0f, 0, pre.child, pre.waiting,
+                           sum);
+  return sum;
+}
+
+// The tree inlined (flatten: trace_tree<true> has no other caller here), so
+// that its frame, register saves and per-scene masks are set up once a
+// packet rather than once a lane.
 __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
-                                              PathRecord* paths, Vec3 color[4]) {
+                                              u32 shaded, PathRecord* paths, Vec3 color[4]) {
   Hit hit;
   for (; lanes; lanes &= lanes - 1) {
     int k = __builtin_ctz(lanes);
-    PathRecord* rec = paths ? &paths[k] : ctx.record;
-    ctx.record = rec;
-    const RootNode& r = root[k];
-    Vec3 sum = r.sum;
-    // The tree in parts, one call site: each child (the reflected one
-    // first, as the tree pops it) with its subtree; a child shaded ahead
-    // enters the record and the sum here and its children are the part.
-    for (u32 todo = r.waiting; todo;) {
-      int slot = 31 - __builtin_clz(todo);
-      todo ^= 1u << slot;
-      const PreNode& pre = r.pre[slot - kRootSlot];
-      const Pending& node = r.child[slot - kRootSlot];
-      const Pending* kids = nullptr;
-      u32 kidsWaiting = 0;
-      int id = kFindHit;
-      if (r.shaded >> slot & 1) {
-        if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
-        sum += pre.color * node.weight;
-        if (!pre.waiting) continue;
-        kids = pre.child;
-        kidsWaiting = pre.waiting;
-      } else if (r.found >> slot & 1) {
-        id = pre.id;
-        hit = pre.hit;
-      }
-      sum = trace_tree<true>(ctx, node.ray, id, hit, 2, node.weight, node.skip, kids, kidsWaiting,
-                             sum, node.pastGlass);
-    }
-    color[k] = sum * 1.0f; // sum * (1 / rootWeight)
+    if (paths) ctx.record = &paths[k];
+    if (shaded >> k & 1)
+      color[k] = trace_split(ctx, root[k], hit) * 1.0f;
+    else if (root[k].waiting)
+      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0,
+                                  root[k].child, root[k].waiting, root[k].sum) *
+                 1.0f;
+    else
+      color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
   }
 }
 

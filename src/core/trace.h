@@ -138,14 +138,13 @@ struct PreNode {
 // trace_hit() would have: its children (child[0] in slot kRootSlot, child[1]
 // in kRootSlot + 1, each valid where its bit 1 << slot is set in `waiting`)
 // and the root's share of the sum, v3(0) + colour * 1 (packet/shade.h).
-// A child whose bit is set in `found` has its hit in pre[slot - kRootSlot];
-// one whose bit is set in `shaded` (a subset of found) its whole node.
+// Where the refracted child (slot kRootSlot) was shaded ahead, pre[0]
+// holds it (trace_children4's `shaded` lanes).
 struct RootNode {
   Pending child[2];
   u32 waiting;
   Vec3 sum;
-  u32 found, shaded;
-  PreNode pre[2];
+  PreNode pre[1];
 };
 // trace_tree's nearest-hit step for a waiting ray (the lone-solid test of
 // skip's kOnlyShift bits, else nearest() among the objects not skipped):
@@ -157,7 +156,9 @@ RT64K_HOT_ABI int pending_hit(const Scene& s, const Pending& p, Hit& hit);
 // traced (appending their nodes to paths[k] when paths is set, which holds
 // the root's node already) and added to root[k].sum in trace_hit's order;
 // color[k] the pixel's colour, bit for bit trace_hit's.
-RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
+// The lanes of `shaded` have their refracted child shaded ahead, in
+// root[k].pre[0] (packet/shade.h).
+RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes, u32 shaded,
                                    PathRecord* paths, Vec3 color[4]);
 // Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
 // may meet object i (of those in `range`) before the light, judged by its

@@ -133,8 +133,9 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 // node shaded as trace_tree shades it (the normal, the spawn of its
 // children, the light loop with its weight's cuts), stored in pre[c]: its
 // colour, record node, whether it records, its children.
-__attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4], u32 have, int c,
+__attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4], u32 have,
                                             int id, int maxDepth) {
+  const int c = 0;
   const Scene& s = *ctx.scene;
   const Object& o = s.objects[id];
   const Material& mt = o.mat;
@@ -322,36 +323,26 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
     pre.node = (u32)(id + 1) | bits[k];
     pre.records = records >> k & 1;
     pre.waiting = waiting[k];
-    root[k].shaded |= 1u << (kRootSlot + c);
   }
 }
 
-// The primary rays' children (depth 2) of the lanes `lanes`: each one's hit
-// found by the tree's own step (pending_hit()), and where every lane's child
-// in a slot hits one sphere, plane or triangle, those nodes shaded in lanes
-// (shade_child4()). trace_children4() takes both up in the tree's order.
-void second4(TraceContext& ctx, RootNode root[4], u32 lanes, int maxDepth) {
-  const Scene& s = *ctx.scene;
-  for (int c = 0; c < 2; ++c) {
-    u32 slot = 1u << (kRootSlot + c), have = 0;
-    int id0 = -1;
-    bool same = true;
-    for (u32 q = lanes; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      RootNode& r = root[k];
-      if (!(r.waiting & slot)) continue;
-      PreNode& pre = r.pre[c];
-      pre.id = pending_hit(s, r.child[c], pre.hit);
-      r.found |= slot;
-      if (!have) id0 = pre.id;
-      same &= pre.id == id0;
-      have |= 1u << k;
-    }
-    if (!have || !same || id0 < 0) continue;
-    ShapeKind kind = s.objects[id0].shape.kind;
-    if (kind == kSphere || kind == kPlane || kind == kTriangle)
-      shade_child4(ctx, root, have, c, id0, maxDepth);
+// The refracted children (depth 2) of the lanes `have`, each into the lone
+// sphere `id` (the lone-solid shortcut's bits): each one's hit by the
+// tree's own first step (that sphere's intersect_t()), and where every
+// lane's finds it, the nodes shaded in lanes (shade_child4()). Returns the
+// lanes shaded (0 or `have`); trace_children4() takes them up in the tree's
+// order.
+__attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
+                                      int maxDepth) {
+  const Shape& sh = ctx.scene->objects[id].shape;
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    Hit& hit = root[k].pre[0].hit;
+    hit.t = kHuge;
+    if (!intersect_t(sh, root[k].child[0].ray, 0.0f, hit)) return 0; // the tree searches again
   }
+  shade_child4(ctx, root, have, id, maxDepth);
+  return have;
 }
 
 } // namespace
@@ -512,6 +503,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
 
   RootNode root[4];
   u32 waiting[4] = {0, 0, 0, 0};
+  u32 castT = 0, onlyT = 0; // the lanes with a refracted child; of them into a lone solid
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
     // Snell where the material transmits; the mirror ray everywhere.
@@ -524,7 +516,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     alignas(16) float fR[4], dR[4], dT[4];
     *(f4*)fR = reflect + (tir ? transmit : zero);
     u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
-    u32 castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
+    castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
     *(f4*)dR = dot(R, N);
     PendingRows rayR, rayT;
@@ -551,6 +543,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       }
       if (castT >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
+        onlyT |= (u32)(skip >> kOnlyShift != 0) << k;
         rayT.put(k, root[k].child[0], skip, true);
         waiting[k] |= 1u << kRootSlot;
         ++ctx.stats.secondary;
@@ -634,9 +627,11 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
     root[k].waiting = waiting[k];
     root[k].sum = sum.lane(k);
-    root[k].found = 0;
-    root[k].shaded = 0;
   }
-  second4(ctx, root, lanes, maxDepth);
-  trace_children4(ctx, root, lanes, paths, color);
+  // The second level: a uniform packet's refracted children all into its
+  // lone sphere.
+  u32 shaded = 0;
+  if (castT && onlyT == castT && uniform && kind0 == kSphere)
+    shaded = second4(ctx, root, castT, id[first], maxDepth);
+  trace_children4(ctx, root, lanes, shaded, paths, color);
 }

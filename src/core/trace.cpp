@@ -406,14 +406,6 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr, 0, v3(0.0f));
 }
 
-int pending_hit(const Scene& s, const Pending& p, Hit& hit) {
-  u32 only = p.skip >> kOnlyShift;
-  hit.t = kHuge;
-  if (only && intersect_t(s.objects[only - 1].shape, p.ray, 0.0f, hit)) return (int)only - 1;
-  return nearest(s, p.ray, hit, range_mask(0, s.numObjects) & ~p.skip,
-                 range_mask(0, s.numForeground));
-}
-
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
   return shadow_test(s, ray, dist, mask, code, exits);
 }

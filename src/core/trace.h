@@ -146,11 +146,6 @@ struct RootNode {
   Vec3 sum;
   PreNode pre[1];
 };
-// trace_tree's nearest-hit step for a waiting ray (the lone-solid test of
-// skip's kOnlyShift bits, else nearest() among the objects not skipped):
-// the object index or -1, with hit's t, piece and local, bit for bit the
-// tree's own (packet/shade.cpp finds the primary rays' children with it).
-RT64K_HOT_ABI int pending_hit(const Scene& s, const Pending& p, Hit& hit);
 // trace_hit() of four primary rays from after their root nodes: for each
 // lane k of `lanes` (bits), in order, the children's subtrees of root[k]
 // traced (appending their nodes to paths[k] when paths is set, which holds

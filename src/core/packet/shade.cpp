@@ -171,6 +171,33 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
     V4 out = splat(Vec3{sh.r0, sh.r1, sh.h});
     front = dot(out, D) < zero;
     N = select(front, out, V4{-out.x, -out.y, -out.z});
+  } else if (sh.kind != kSphere) {
+    // A cylinder's or cone's: frustum_outward()'s steps as shade_primary4's
+    // one-object path takes them, each lane from its own origin; a lane
+    // beyond the domain (rho^2 > 1e20, or NaN) through hit_normal().
+    V4 axis = splat(sh.b);
+    V4 q = (O - A) + D * T4;
+    V4 pPerp = q - axis * dot(q, axis);
+    f4 rho2 = dot(pPerp, pPerp);
+    u32 ok = lane_bits(rho2 <= f4_of(1e20f));
+    V4 av = pPerp - axis * (f4_of(sh.c.x) * lane_sqrt(rho2));
+    f4 len2 = dot(av, av);
+    V4 side = select(len2 > f4_of(1e-30f), av * (1.0f / lane_sqrt(len2)), axis);
+    i4 piece = *(i4*)pc;
+    V4 cap = select(piece == i4_of(kFrustumTop), axis, V4{-axis.x, -axis.y, -axis.z});
+    V4 out = select(piece == i4_of(kFrustumSide), side, cap);
+    ok |= lane_bits(piece != i4_of(kFrustumSide));
+    front = dot(out, D) < zero;
+    N = select(front, out, V4{-out.x, -out.y, -out.z});
+    for (u32 q2 = have & ~ok; q2; q2 &= q2 - 1) {
+      int k = __builtin_ctz(q2);
+      Hit hit = root[k].pre[c].hit;
+      hit_normal(sh, root[k].child[c].ray, hit);
+      N.x[k] = hit.normal.x;
+      N.y[k] = hit.normal.y;
+      N.z[k] = hit.normal.z;
+      front[k] = -(i32)hit.front;
+    }
   } else {
     // sphere_outward() (shapes.h): m = (org - centre) + t dir where |m|^2
     // lies in [r^2 / 4, 4 r^2], the other lanes by the scalar function.
@@ -649,7 +676,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // The second level: a uniform packet's refracted children all into its
   // lone sphere.
   u32 shaded = 0;
-  if (castT && onlyT == castT && uniform && kind0 == kSphere)
+  if (castT && onlyT == castT && uniform && kind0 != kPlane && kind0 != kTriangle)
     shaded = second4(ctx, root, castT, id[first], maxDepth);
   trace_children4(ctx, root, lanes, shaded, paths, color);
 }

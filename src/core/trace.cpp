@@ -411,23 +411,38 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
 }
 
 // A lane whose refracted child was shaded ahead (packet/shade.h, the
-// second level): the tree in parts, the reflected child's subtree first (as
-// the tree pops it), then the shaded child entering the record and the sum
-// here, then its children's subtrees. Out of line, with its own copy of the
-// tree: most lanes take trace_children4's one call.
+// second level): the tree in parts, in its order: the reflected child's
+// subtree; the shaded child entering the record and the sum here; where
+// its reflected child was shaded too (r.deep), that one likewise, then its
+// children's subtrees; then the shaded child's other children's subtrees.
+// Out of line, with its own copy of the tree (one call site): most lanes
+// take trace_children4's one call.
 __attribute__((flatten, noinline)) static Vec3 trace_split(TraceContext& ctx, const RootNode& r,
                                                          Hit& hit) {
   Vec3 sum = r.sum;
-  const u32 reflected = 1u << (kRootSlot + 1);
-  if (r.waiting & reflected)
-    sum = trace_tree<true>(ctx, r.child[1].ray, kFindHit, hit, 2, 1.0f, 0, r.child, reflected, sum);
-  const PreNode& pre = r.pre[0];
   PathRecord* rec = ctx.record;
-  if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
-  sum += pre.color * r.child[0].weight;
-  if (pre.waiting)
-    sum = trace_tree<true>(ctx, pre.child[0].ray, kFindHit, hit, 3, 1.0f, 0, pre.child, pre.waiting,
-                           sum);
+  const PreNode& pre = r.pre[0];
+  for (int step = 0; step < 3; ++step) {
+    const Pending* kids;
+    u32 part;
+    if (step == 0) {
+      kids = r.child;
+      part = r.waiting & 1u << (kRootSlot + 1);
+    } else if (step == 1) {
+      if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
+      sum += pre.color * r.child[0].weight;
+      if (!r.deep) continue;
+      const PreNode& deep = r.pre[1];
+      if (rec && deep.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = deep.node;
+      sum += deep.color * pre.child[1].weight;
+      kids = deep.child;
+      part = deep.waiting;
+    } else {
+      kids = pre.child;
+      part = r.deep ? pre.waiting & ~(1u << (2 * 2 + 3)) : pre.waiting;
+    }
+    if (part) sum = trace_tree<true>(ctx, kids->ray, kFindHit, hit, 2, 1.0f, 0, kids, part, sum);
+  }
   return sum;
 }
 

@@ -139,12 +139,14 @@ struct PreNode {
 // in kRootSlot + 1, each valid where its bit 1 << slot is set in `waiting`)
 // and the root's share of the sum, v3(0) + colour * 1 (packet/shade.h).
 // Where the refracted child (slot kRootSlot) was shaded ahead, pre[0]
-// holds it (trace_children4's `shaded` lanes).
+// holds it (trace_children4's `shaded` lanes); where `deep` is set, pre[1]
+// holds that child's reflected child (depth 3, its slot 7), shaded too.
 struct RootNode {
   Pending child[2];
   u32 waiting;
   Vec3 sum;
-  PreNode pre[1];
+  bool deep;
+  PreNode pre[2];
 };
 // trace_hit() of four primary rays from after their root nodes: for each
 // lane k of `lanes` (bits), in order, the children's subtrees of root[k]

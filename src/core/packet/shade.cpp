@@ -127,15 +127,16 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 }
 
 
-// One child slot (c: 0 the refracted ray, 1 the reflected one) of the lanes
-// `have`, whose rays (root[k].child[c], depth 2) all hit object `id` (a
-// sphere, plane or triangle), found ahead in root[k].pre[c]: each lane's
-// node shaded as trace_tree shades it (the normal, the spawn of its
-// children, the light loop with its weight's cuts), stored in pre[c]: its
-// colour, record node, whether it records, its children.
-__attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4], u32 have,
-                                            int id, int maxDepth) {
-  const int c = 0;
+// The waiting rays *src[k] (depth `depth`, each past glass or not as
+// pastGlass says) of the lanes `have`, which all hit object `id` (t, piece
+// and local found ahead in dst[k]->hit): each lane's node shaded as
+// trace_tree shades it (the normal, the spawn of its children, the light
+// loop with its weight's cuts), stored in *dst[k]: its colour, record node,
+// whether it records, its children. Pointers of lanes outside `have` are
+// not read.
+__attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* const src[4],
+                                            PreNode* const dst[4], u32 have, int depth,
+                                            bool pastGlass, int id, int maxDepth) {
   const Scene& s = *ctx.scene;
   const Object& o = s.objects[id];
   const Material& mt = o.mat;
@@ -145,21 +146,18 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
   alignas(16) float tt[4];
   alignas(16) i32 pc[4];
   for (int k = 0; k < 4; ++k) {
-    int src = have >> k & 1 ? k : first;
-    const Pending& p = root[src].child[c];
+    int j = have >> k & 1 ? k : first;
+    const Pending& p = *src[j];
     r0[k] = &p.ray.org.x; // org, dir.x
     r1[k] = &p.ray.dir.y; // dir.y, dir.z, weight, skip
-    tt[k] = root[src].pre[c].hit.t;
-    pc[k] = root[src].pre[c].hit.piece;
+    tt[k] = dst[j]->hit.t;
+    pc[k] = dst[j]->hit.piece;
   }
   f4 a[4], b[4];
   columns(r0, a);
   columns(r1, b);
   V4 O = {a[0], a[1], a[2]}, D = {a[3], b[0], b[1]};
   f4 W = b[2], T4 = *(f4*)tt;
-  // Every root's child in slot 0 was refracted, none in slot 1 (a root's
-  // ray is primary: it has passed no glass).
-  bool pastGlass = c == 0;
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 A = splat(sh.a), N;
   i4 front;
@@ -191,8 +189,8 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
     N = select(front, out, V4{-out.x, -out.y, -out.z});
     for (u32 q2 = have & ~ok; q2; q2 &= q2 - 1) {
       int k = __builtin_ctz(q2);
-      Hit hit = root[k].pre[c].hit;
-      hit_normal(sh, root[k].child[c].ray, hit);
+      Hit hit = dst[k]->hit;
+      hit_normal(sh, src[k]->ray, hit);
       N.x[k] = hit.normal.x;
       N.y[k] = hit.normal.y;
       N.z[k] = hit.normal.z;
@@ -207,7 +205,7 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
     V4 out = m * (1.0f / lane_sqrt(len2));
     for (u32 q = have & ~ok; q; q &= q - 1) {
       int k = __builtin_ctz(q);
-      Vec3 w = sphere_outward(sh, root[k].child[c].ray, root[k].pre[c].hit);
+      Vec3 w = sphere_outward(sh, src[k]->ray, dst[k]->hit);
       out.x[k] = w.x;
       out.y[k] = w.y;
       out.z[k] = w.z;
@@ -230,12 +228,12 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
   *(i4*)range =
       front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
   u32 inside = closed_convex(sh) ? ~lane_bits(front) & have : 0;
-  // The record's tests: recordable (depth 2 <= kRecordDepth) and records.
-  i4 recordable = W >= f4_of(kRecordWeight);
+  // The record's tests: recordable and records.
+  i4 recordable = depth <= kRecordDepth ? W >= f4_of(kRecordWeight) : i4_of(0);
   u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
 
   u32 waiting[4] = {0, 0, 0, 0};
-  if (2 < maxDepth) {
+  if (depth < maxDepth) {
     f4 transmit = f4_of(mt.transmit);
     bool glass = mt.transmit > 0;
     f4 eta = glass ? (front ? f4_of(1.0f / mt.ior) : f4_of(mt.ior)) : one;
@@ -262,17 +260,17 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
     for (u32 q = castR | castT; q; q &= q - 1) {
       int k = __builtin_ctz(q);
       u32 only = alone && off[k] <= 0.5f * kAloneSlack * sh.size ? (u32)(id + 1) << kOnlyShift : 0;
-      PreNode& pre = root[k].pre[c];
+      PreNode& pre = *dst[k];
       if (castR >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
         rayR.put(k, pre.child[1], skip, pastGlass);
-        waiting[k] |= 1u << (kRootSlot + 3);
+        waiting[k] |= 1u << (2 * depth + 3);
         ++ctx.stats.secondary;
       }
       if (castT >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
         rayT.put(k, pre.child[0], skip, true);
-        waiting[k] |= 1u << (kRootSlot + 2);
+        waiting[k] |= 1u << (2 * depth + 2);
         ++ctx.stats.secondary;
       }
     }
@@ -363,7 +361,7 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
   out.set(col);
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
-    PreNode& pre = root[k].pre[c];
+    PreNode& pre = *dst[k];
     pre.color = out.lane(k);
     pre.node = (u32)(id + 1) | bits[k];
     pre.records = records >> k & 1;
@@ -372,21 +370,46 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, RootNode root[4],
 }
 
 // The refracted children (depth 2) of the lanes `have`, each into the lone
-// sphere `id` (the lone-solid shortcut's bits): each one's hit by the
-// tree's own first step (that sphere's intersect_t()), and where every
-// lane's finds it, the nodes shaded in lanes (shade_child4()). Returns the
-// lanes shaded (0 or `have`); trace_children4() takes them up in the tree's
-// order.
+// solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
+// own first step (that solid's intersect_t()), and where every lane's finds
+// it, the nodes shaded in lanes (shade_child4()) into root[k].pre[0]; then
+// likewise their reflected children, inside the same solid, into pre[1]
+// (root[k].deep). Returns the lanes shaded (0 or `have`);
+// trace_children4() takes them up in the tree's order.
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
+  const Pending* src[4];
+  PreNode* dst[4];
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     Hit& hit = root[k].pre[0].hit;
     hit.t = kHuge;
     if (!intersect_t(sh, root[k].child[0].ray, 0.0f, hit)) return 0; // the tree searches again
+    src[k] = &root[k].child[0];
+    dst[k] = &root[k].pre[0];
+    root[k].deep = false;
   }
-  shade_child4(ctx, root, have, id, maxDepth);
+  shade_child4(ctx, src, dst, have, 2, true, id, maxDepth);
+  // The reflected children inside the solid (depth 3), where every lane has
+  // one that the lone-solid test finds.
+  const u32 reflected = 1u << (2 * 2 + 3), only = (u32)(id + 1) << kOnlyShift;
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    PreNode& pre = root[k].pre[0];
+    if (!(pre.waiting & reflected) || pre.child[1].skip != only) return have;
+  }
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    Hit& hit = root[k].pre[1].hit;
+    hit.t = kHuge;
+    if (!intersect_t(sh, root[k].pre[0].child[1].ray, 0.0f, hit)) return have;
+    src[k] = &root[k].pre[0].child[1];
+    dst[k] = &root[k].pre[1];
+  }
+  shade_child4(ctx, src, dst, have, 3, true, id, maxDepth);
+  for (u32 q = have; q; q &= q - 1)
+    root[__builtin_ctz(q)].deep = true;
   return have;
 }
 

@@ -381,6 +381,9 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   const Shape& sh = ctx.scene->objects[id].shape;
   const Pending* src[4];
   PreNode* dst[4];
+  const u32 only = (u32)(id + 1) << kOnlyShift;
+  for (u32 q = have; q; q &= q - 1)
+    if (root[__builtin_ctz(q)].child[0].skip != only) return 0;
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     Hit& hit = root[k].pre[0].hit;
@@ -393,7 +396,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   shade_child4(ctx, src, dst, have, 2, true, id, maxDepth);
   // The reflected children inside the solid (depth 3), where every lane has
   // one that the lone-solid test finds.
-  const u32 reflected = 1u << (2 * 2 + 3), only = (u32)(id + 1) << kOnlyShift;
+  const u32 reflected = 1u << (2 * 2 + 3);
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     PreNode& pre = root[k].pre[0];
@@ -571,7 +574,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
 
   RootNode root[4];
   u32 waiting[4] = {0, 0, 0, 0};
-  u32 castT = 0, onlyT = 0; // the lanes with a refracted child; of them into a lone solid
+  u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
     // Snell where the material transmits; the mirror ray everywhere.
@@ -611,7 +614,6 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       }
       if (castT >> k & 1) {
         u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-        onlyT |= (u32)(skip >> kOnlyShift != 0) << k;
         rayT.put(k, root[k].child[0], skip, true);
         waiting[k] |= 1u << kRootSlot;
         ++ctx.stats.secondary;
@@ -699,7 +701,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // The second level: a uniform packet's refracted children all into its
   // lone sphere.
   u32 shaded = 0;
-  if (castT && onlyT == castT && uniform && kind0 != kPlane && kind0 != kTriangle)
+  if (castT && uniform && (s.aloneMask >> id[first] & 1))
     shaded = second4(ctx, root, castT, id[first], maxDepth);
   trace_children4(ctx, root, lanes, shaded, paths, color);
 }

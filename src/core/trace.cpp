@@ -183,15 +183,18 @@ constexpr int kFindHit = -2;
 // inlined into trace(), cost 430 packed bytes).
 //
 // Resume (trace_children4(), one lane at a time): the root (a primary ray's node, depth 1,
-// weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
-// `root` holds its waiting children and its share of the sum. A template
+// weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), maybe
+// some of its children too (the second level), and `part` holds waiting
+// rays of one depth and the sum so far; the result is the sum after their
+// subtrees (not divided by the root's weight, 1). `part` takes the place
+// of main's `root` pointer, so that trace_tree<false>, called with null,
+// compiles to the same bytes in intro.exe. A template
 // argument, so that trace() and trace_hit() keep the loop without the
 // resume (intro.exe, which links no packet code, holds that copy only;
 // the native tool holds both: docs/tracer-speed.md, round eleven).
 template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
-                                     int depth, float weight, u32 skip, const Pending* kids,
-                                     u32 kidsWaiting, Vec3 sumIn) {
+                                     int depth, float weight, u32 skip, const TreePart* part) {
   const Scene& s = *ctx.scene;
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
@@ -206,14 +209,15 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   if (Resume) {
     // A part of a primary ray's tree (trace_children4): the sum so far and
-    // waiting rays of one depth, `kids` (their bits in kidsWaiting, a pair
-    // of slots: kids[0] the refracted ray's, kids[1] the reflected's),
+    // waiting rays of one depth, part->kids (their bits in part->waiting, a
+    // pair of slots: kids[0] the refracted ray's, kids[1] the reflected's),
     // started at the first as the loop's end would pop it (the loop itself
     // as without them: a test in it cost 0.5 % of a frame). The first is
     // read in place; a refracted ray after a reflected one waits in its
     // slot.
-    sum = sumIn;
-    waiting = kidsWaiting;
+    const Pending* kids = part->kids;
+    sum = part->sum;
+    waiting = part->waiting;
     int slot = 31 - __builtin_clz(waiting);
     waiting ^= 1u << slot;
     int base = slot & ~1;
@@ -399,11 +403,11 @@ Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip)
   Hit hit;
   // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
   return trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
-                           nullptr, 0, v3(0.0f));
+                           nullptr);
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr, 0, v3(0.0f));
+  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
 }
 
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
@@ -441,7 +445,10 @@ __attribute__((flatten, noinline)) static Vec3 trace_split(TraceContext& ctx, co
       kids = pre.child;
       part = r.deep ? pre.waiting & ~(1u << (2 * 2 + 3)) : pre.waiting;
     }
-    if (part) sum = trace_tree<true>(ctx, kids->ray, kFindHit, hit, 2, 1.0f, 0, kids, part, sum);
+    if (part) {
+      TreePart tp{kids, part, sum};
+      sum = trace_tree<true>(ctx, kids->ray, kFindHit, hit, 2, 1.0f, 0, &tp);
+    }
   }
   return sum;
 }
@@ -457,11 +464,10 @@ __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode 
     if (paths) ctx.record = &paths[k];
     if (shaded >> k & 1)
       color[k] = trace_split(ctx, root[k], hit) * 1.0f;
-    else if (root[k].waiting)
-      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0,
-                                  root[k].child, root[k].waiting, root[k].sum) *
-                 1.0f;
-    else
+    else if (root[k].waiting) {
+      TreePart tp{root[k].child, root[k].waiting, root[k].sum};
+      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &tp) * 1.0f;
+    } else
       color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
   }
 }

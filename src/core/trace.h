@@ -148,6 +148,15 @@ struct RootNode {
   bool deep;
   PreNode pre[2];
 };
+// A part of a primary ray's tree for trace.cpp's resume (trace_children4):
+// waiting rays of one depth, kids[0] in the refracted ray's slot and kids[1]
+// in the reflected's (each where its bit is set in `waiting`), traced with
+// their subtrees after the sum so far, `sum`.
+struct TreePart {
+  const Pending* kids;
+  u32 waiting;
+  Vec3 sum;
+};
 // trace_hit() of four primary rays from after their root nodes: for each
 // lane k of `lanes` (bits), in order, the children's subtrees of root[k]
 // traced (appending their nodes to paths[k] when paths is set, which holds

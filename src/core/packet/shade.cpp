@@ -221,8 +221,6 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
   *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
   V4 lightOrg = p + N * *(f4*)off;
   bool flat = sh.kind == kPlane || sh.kind == kTriangle;
-  alignas(16) i32 frontOf[4];
-  *(i4*)frontOf = front;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
   alignas(16) u32 range[4];
   *(i4*)range =
@@ -232,7 +230,7 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
   i4 recordable = depth <= kRecordDepth ? W >= f4_of(kRecordWeight) : i4_of(0);
   u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
 
-  u32 waiting[4] = {0, 0, 0, 0};
+  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
   if (depth < maxDepth) {
     f4 transmit = f4_of(mt.transmit);
     bool glass = mt.transmit > 0;
@@ -241,7 +239,7 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass ? sin2T > one : i4_of(0);
-    alignas(16) float fR[4], dR[4], dT[4];
+    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
     *(f4*)fR = f4_of(mt.reflect) + (tir ? transmit : zero);
     u32 castR = lane_bits((*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
     u32 castT = glass ? lane_bits(~tir & (W * transmit >= f4_of(kMinRayWeight)) & live) : 0;
@@ -256,23 +254,27 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
       *(f4*)dT = dot(T, N);
       rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, W * transmit);
     }
-    bool alone = s.aloneMask & self;
-    for (u32 q = castR | castT; q; q &= q - 1) {
+    // The skip bits in lanes: the object where the ray leaves it for good
+    // (leaves_for_good_dot(): a flat shape always, else front ? d > 0 : d <
+    // 0), else the lone-solid shortcut's bits where the offset allows.
+    i4 onlyL = i4_of(0);
+    if (s.aloneMask & self)
+      onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) & i4_of((i32)((u32)(id + 1) << kOnlyShift));
+    i4 flatL = i4_of(-(i32)flat);
+    alignas(16) u32 skR[4], skT[4];
+    *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
+    *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+    *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (2 * depth + 3))) |
+                    (lanes_of(castT) & i4_of(1 << (2 * depth + 2)));
+    ctx.stats.secondary += (0x4332322132212110ull >> 4 * castR & 15) +
+                           (0x4332322132212110ull >> 4 * castT & 15);
+    for (u32 q = castR; q; q &= q - 1) {
       int k = __builtin_ctz(q);
-      u32 only = alone && off[k] <= 0.5f * kAloneSlack * sh.size ? (u32)(id + 1) << kOnlyShift : 0;
-      PreNode& pre = *dst[k];
-      if (castR >> k & 1) {
-        u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-        rayR.put(k, pre.child[1], skip, pastGlass);
-        waiting[k] |= 1u << (2 * depth + 3);
-        ++ctx.stats.secondary;
-      }
-      if (castT >> k & 1) {
-        u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-        rayT.put(k, pre.child[0], skip, true);
-        waiting[k] |= 1u << (2 * depth + 2);
-        ++ctx.stats.secondary;
-      }
+      rayR.put(k, dst[k]->child[1], skR[k], pastGlass);
+    }
+    for (u32 q = castT; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      rayT.put(k, dst[k]->child[0], skT[k], true);
     }
   }
 

@@ -134,9 +134,10 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 // loop with its weight's cuts), stored in *dst[k]: its colour, record node,
 // whether it records, its children. Pointers of lanes outside `have` are
 // not read.
+template <int depth, bool sphere>
 __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* const src[4],
-                                            PreNode* const dst[4], u32 have, int depth,
-                                            bool pastGlass, int id, int maxDepth) {
+                                            PreNode* const dst[4], u32 have, bool pastGlass,
+                                            int id, int maxDepth) {
   const Scene& s = *ctx.scene;
   const Object& o = s.objects[id];
   const Material& mt = o.mat;
@@ -162,14 +163,14 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
   V4 A = splat(sh.a), N;
   i4 front;
   u32 self = 1u << id;
-  if (sh.kind == kPlane) {
+  if (!sphere && sh.kind == kPlane) {
     front = *(i4*)pc != i4_of(0); // plane_normal()
     N = select(front, A, V4{-A.x, -A.y, -A.z});
-  } else if (sh.kind == kTriangle) {
+  } else if (!sphere && sh.kind == kTriangle) {
     V4 out = splat(Vec3{sh.r0, sh.r1, sh.h});
     front = dot(out, D) < zero;
     N = select(front, out, V4{-out.x, -out.y, -out.z});
-  } else if (sh.kind != kSphere) {
+  } else if (!sphere) {
     // A cylinder's or cone's: frustum_outward()'s steps as shade_primary4's
     // one-object path takes them, each lane from its own origin; a lane
     // beyond the domain (rho^2 > 1e20, or NaN) through hit_normal().
@@ -395,7 +396,11 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     dst[k] = &root[k].pre[0];
     root[k].deep = false;
   }
-  shade_child4(ctx, src, dst, have, 2, true, id, maxDepth);
+  bool sphere = sh.kind == kSphere;
+  if (sphere)
+    shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth);
+  else
+    shade_child4<2, false>(ctx, src, dst, have, true, id, maxDepth);
   // The reflected children inside the solid (depth 3), where every lane has
   // one that the lone-solid test finds.
   const u32 reflected = 1u << (2 * 2 + 3);
@@ -412,7 +417,10 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     src[k] = &root[k].pre[0].child[1];
     dst[k] = &root[k].pre[1];
   }
-  shade_child4(ctx, src, dst, have, 3, true, id, maxDepth);
+  if (sphere)
+    shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth);
+  else
+    shade_child4<3, false>(ctx, src, dst, have, true, id, maxDepth);
   for (u32 q = have; q; q &= q - 1)
     root[__builtin_ctz(q)].deep = true;
   return have;

@@ -134,8 +134,13 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 // loop with its weight's cuts), stored in *dst[k]: its colour, record node,
 // whether it records, its children. Pointers of lanes outside `have` are
 // not read.
+//
+// On a sphere the hits are found here: hit_sphere() (shapes.cpp, tMin 0,
+// as the lone-solid test calls it) in lanes, its operations in its order;
+// where a lane's ray misses, nothing is done and false returned (the tree
+// searches again). Elsewhere the caller found them; true.
 template <int depth, bool sphere>
-__attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* const src[4],
+__attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* const src[4],
                                             PreNode* const dst[4], u32 have, bool pastGlass,
                                             int id, int maxDepth) {
   const Scene& s = *ctx.scene;
@@ -151,16 +156,40 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
     const Pending& p = *src[j];
     r0[k] = &p.ray.org.x; // org, dir.x
     r1[k] = &p.ray.dir.y; // dir.y, dir.z, weight, skip
-    tt[k] = dst[j]->hit.t;
-    pc[k] = dst[j]->hit.piece;
+    if (!sphere) {
+      tt[k] = dst[j]->hit.t;
+      pc[k] = dst[j]->hit.piece;
+    }
   }
   f4 a[4], b[4];
   columns(r0, a);
   columns(r1, b);
   V4 O = {a[0], a[1], a[2]}, D = {a[3], b[0], b[1]};
-  f4 W = b[2], T4 = *(f4*)tt;
+  f4 W = b[2], T4;
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 A = splat(sh.a), N;
+  if (sphere) {
+    // hit_sphere(): f = org - centre, b = f.d, perp = f - d b, disc = r^2 -
+    // perp.perp (< 0: a miss; NaN goes on, to be refused by accept()), c =
+    // f.f - r^2, q = -(b + sign(b) sqrt(disc)) (0: a miss), t0 = c / q,
+    // t1 = q ordered, t = t0 > 0 ? t0 : t1, accepted where 0 < t < kHuge.
+    V4 f = O - A;
+    f4 bb = dot(f, D);
+    V4 perp = f - D * bb;
+    float r2 = sh.r0 * sh.r0;
+    f4 disc = f4_of(r2) - dot(perp, perp);
+    f4 c = dot(f, f) - f4_of(r2);
+    f4 root = lane_sqrt(disc);
+    f4 q = -(bb + (bb >= zero ? root : -root));
+    f4 t0 = c / q, t1 = q;
+    i4 swap = t0 > t1;
+    f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
+    T4 = lo > zero ? lo : hi;
+    i4 ok = ~(disc < zero) & (q != zero) & (T4 > zero) & (T4 < f4_of(kHuge));
+    if ((lane_bits(ok) & have) != have) return false;
+  } else {
+    T4 = *(f4*)tt;
+  }
   i4 front;
   u32 self = 1u << id;
   if (!sphere && sh.kind == kPlane) {
@@ -206,7 +235,9 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
     V4 out = m * (1.0f / lane_sqrt(len2));
     for (u32 q = have & ~ok; q; q &= q - 1) {
       int k = __builtin_ctz(q);
-      Vec3 w = sphere_outward(sh, src[k]->ray, dst[k]->hit);
+      Hit hit;
+      hit.t = T4[k];
+      Vec3 w = sphere_outward(sh, src[k]->ray, hit);
       out.x[k] = w.x;
       out.y[k] = w.y;
       out.z[k] = w.z;
@@ -370,6 +401,7 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
     pre.records = records >> k & 1;
     pre.waiting = waiting[k];
   }
+  return true;
 }
 
 // The refracted children (depth 2) of the lanes `have`, each into the lone
@@ -382,25 +414,28 @@ __attribute__((noinline)) void shade_child4(TraceContext& ctx, const Pending* co
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
-  const Pending* src[4];
-  PreNode* dst[4];
+  const Pending* src[4] = {nullptr, nullptr, nullptr, nullptr};
+  PreNode* dst[4] = {nullptr, nullptr, nullptr, nullptr};
   const u32 only = (u32)(id + 1) << kOnlyShift;
-  for (u32 q = have; q; q &= q - 1)
-    if (root[__builtin_ctz(q)].child[0].skip != only) return 0;
+  bool sphere = sh.kind == kSphere;
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
-    Hit& hit = root[k].pre[0].hit;
-    hit.t = kHuge;
-    if (!intersect_t(sh, root[k].child[0].ray, 0.0f, hit)) return 0; // the tree searches again
+    if (root[k].child[0].skip != only) return 0;
     src[k] = &root[k].child[0];
     dst[k] = &root[k].pre[0];
     root[k].deep = false;
   }
-  bool sphere = sh.kind == kSphere;
-  if (sphere)
-    shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth);
-  else
+  if (sphere) {
+    if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
+  } else {
+    for (u32 q = have; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      Hit& hit = dst[k]->hit;
+      hit.t = kHuge;
+      if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return 0; // the tree searches again
+    }
     shade_child4<2, false>(ctx, src, dst, have, true, id, maxDepth);
+  }
   // The reflected children inside the solid (depth 3), where every lane has
   // one that the lone-solid test finds.
   const u32 reflected = 1u << (2 * 2 + 3);
@@ -408,19 +443,20 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     int k = __builtin_ctz(q);
     PreNode& pre = root[k].pre[0];
     if (!(pre.waiting & reflected) || pre.child[1].skip != only) return have;
-  }
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    Hit& hit = root[k].pre[1].hit;
-    hit.t = kHuge;
-    if (!intersect_t(sh, root[k].pre[0].child[1].ray, 0.0f, hit)) return have;
-    src[k] = &root[k].pre[0].child[1];
+    src[k] = &pre.child[1];
     dst[k] = &root[k].pre[1];
   }
-  if (sphere)
-    shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth);
-  else
+  if (sphere) {
+    if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
+  } else {
+    for (u32 q = have; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      Hit& hit = dst[k]->hit;
+      hit.t = kHuge;
+      if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return have;
+    }
     shade_child4<3, false>(ctx, src, dst, have, true, id, maxDepth);
+  }
   for (u32 q = have; q; q &= q - 1)
     root[__builtin_ctz(q)].deep = true;
   return have;

@@ -423,7 +423,7 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
 // second copy of the tree there (out of line: +0.05 to +0.18 % of scene 1's
 // frames).
 __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const RootNode& r,
-                                                         Hit& hit) {
+                                                       Hit& hit) {
   Vec3 sum = r.sum;
   PathRecord* rec = ctx.record;
   const PreNode& pre = r.pre[0];

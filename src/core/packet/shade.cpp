@@ -126,7 +126,6 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
   return cut ? zero : r;
 }
 
-
 // The waiting rays *src[k] (depth `depth`, each past glass or not as
 // pastGlass says) of the lanes `have`, which all hit object `id` (t, piece
 // and local found ahead in dst[k]->hit): each lane's node shaded as
@@ -141,8 +140,8 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 // searches again). Elsewhere the caller found them; true.
 template <int depth, bool sphere>
 __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* const src[4],
-                                            PreNode* const dst[4], u32 have, bool pastGlass,
-                                            int id, int maxDepth) {
+                                            PreNode* const dst[4], u32 have, bool pastGlass, int id,
+                                            int maxDepth) {
   const Scene& s = *ctx.scene;
   const Object& o = s.objects[id];
   const Material& mt = o.mat;
@@ -291,15 +290,16 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     // 0), else the lone-solid shortcut's bits where the offset allows.
     i4 onlyL = i4_of(0);
     if (s.aloneMask & self)
-      onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) & i4_of((i32)((u32)(id + 1) << kOnlyShift));
+      onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
+              i4_of((i32)((u32)(id + 1) << kOnlyShift));
     i4 flatL = i4_of(-(i32)flat);
     alignas(16) u32 skR[4], skT[4];
     *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
     *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
     *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (2 * depth + 3))) |
                     (lanes_of(castT) & i4_of(1 << (2 * depth + 2)));
-    ctx.stats.secondary += (0x4332322132212110ull >> 4 * castR & 15) +
-                           (0x4332322132212110ull >> 4 * castT & 15);
+    ctx.stats.secondary +=
+        (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
     for (u32 q = castR; q; q &= q - 1) {
       int k = __builtin_ctz(q);
       rayR.put(k, dst[k]->child[1], skR[k], pastGlass);

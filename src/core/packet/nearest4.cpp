@@ -38,8 +38,8 @@ inline void take(Hits4& st, i4 ok, f4 t, int object) {
 
 // hit_sphere, tMin = 0: f = org - centre, b = f.d, perp = f - d b, disc =
 // r^2 - perp.perp, c = f.f - r^2, q = -(b + sign(b) sqrt(disc)).
-void sphere_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, int object,
-                  Hits4& st) {
+__attribute__((always_inline)) inline void
+sphere_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, int object, Hits4& st) {
   f4 zero = f4_of(0.0f);
   f4 fx = org[0] - sh.a.x, fy = org[1] - sh.a.y, fz = org[2] - sh.a.z;
   f4 b = fx * dir[0] + fy * dir[1] + fz * dir[2];
@@ -64,8 +64,8 @@ void sphere_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, 
 // hit_plane: in float where |cos| >= kPlaneCosFloat, t = a.(b - org) / cos,
 // piece 1 when cos < 0; the lanes nearer parallel take its double path
 // through the scalar test.
-void plane_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, int object,
-                 Hits4& st) {
+__attribute__((always_inline)) inline void
+plane_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, int object, Hits4& st) {
   Vec3 n = sh.a;
   f4 zero = f4_of(0.0f);
   f4 c = n.x * dir[0] + n.y * dir[1] + n.z * dir[2];
@@ -82,13 +82,61 @@ void plane_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, i
 // Component i (0, 1, 2: lane by lane) of (x, y, z): hit_triangle's at().
 inline f4 pick(i4 i, f4 x, f4 y, f4 z) { return i == i4_of(0) ? x : (i == i4_of(1) ? y : z); }
 
-// hit_triangle (Woop et al.): the side test, then the shear with each
-// lane's own axis order (kz the direction's largest component, kx and ky
-// the next two cyclically, swapped where d[kz] < 0) and the edge functions;
-// a lane with an edge function of exactly 0 goes to the scalar test (its
-// recomputation in double).
-void triangle_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes, int object,
-                    Hits4& st) {
+// hit_triangle's shear of the four directions: kz the largest component, kx
+// and ky the next two cyclically, swapped where d[kz] < 0; Sx = d[kx] /
+// d[kz], Sy = d[ky] / d[kz], Sz = 1 / d[kz]. It depends on the direction
+// alone, so a packet's triangles share it (the same values the scalar test
+// computes for each). Where every lane of `live` has one order, it is held
+// as indices (k); else per lane (i).
+struct Shear {
+  bool uniform;
+  int kx, ky, kz;
+  i4 ix, iy, iz;
+  f4 Sx, Sy, Sz;
+};
+
+void shear_of(const f4 dir[3], u32 live, Shear& o) {
+  f4 ax = lane_abs(dir[0]), ay = lane_abs(dir[1]), az = lane_abs(dir[2]);
+  i4 kz = ax > ay ? (ax > az ? i4_of(0) : i4_of(2)) : (ay > az ? i4_of(1) : i4_of(2));
+  f4 dz = pick(kz, dir[0], dir[1], dir[2]);
+  i4 flip = dz < f4_of(0.0f);
+  i4 code = kz + (flip & i4_of(4));
+  i32 c0 = code[__builtin_ctz(live)];
+  o.uniform = (lane_bits(code == i4_of(c0)) & live) == live;
+  if (o.uniform) {
+    o.kz = c0 & 3;
+    o.kx = o.kz == 2 ? 0 : o.kz + 1;
+    o.ky = o.kx == 2 ? 0 : o.kx + 1;
+    if (c0 & 4) {
+      int tmp = o.kx;
+      o.kx = o.ky;
+      o.ky = tmp;
+    }
+    o.Sx = dir[o.kx] / dz;
+    o.Sy = dir[o.ky] / dz;
+  } else {
+    i4 kx = kz == i4_of(2) ? i4_of(0) : kz + 1;
+    i4 ky = kx == i4_of(2) ? i4_of(0) : kx + 1;
+    o.iz = kz;
+    o.ix = flip ? ky : kx;
+    o.iy = flip ? kx : ky;
+    o.Sx = pick(o.ix, dir[0], dir[1], dir[2]) / dz;
+    o.Sy = pick(o.iy, dir[0], dir[1], dir[2]) / dz;
+  }
+  o.Sz = 1.0f / dz;
+}
+
+inline float comp3(Vec3 v, int i) {
+  float f;
+  __builtin_memcpy(&f, (const char*)&v + 4 * i, 4);
+  return f;
+}
+
+// hit_triangle (Woop et al.) with the packet's shear: the side test, the
+// sheared vertices and the edge functions; a lane with an edge function of
+// exactly 0 goes to the scalar test (its recomputation in double).
+void triangle_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], const Shear& o, u32 lanes,
+                    int object, Hits4& st) {
   f4 zero = f4_of(0.0f);
   f4 aox = org[0] - sh.a.x, aoy = org[1] - sh.a.y, aoz = org[2] - sh.a.z;
   f4 side = sh.n.x * aox + sh.n.y * aoy + sh.n.z * aoz;
@@ -99,29 +147,30 @@ void triangle_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes
   i4 leaves = side > zero ? away > zero : away < zero;
   lanes &= ~lane_bits(leaves & (lane_abs(side) > sh.sideMargin * m));
   if (!lanes) return;
-  f4 ax = lane_abs(dir[0]), ay = lane_abs(dir[1]), az = lane_abs(dir[2]);
-  i4 kz = ax > ay ? (ax > az ? i4_of(0) : i4_of(2)) : (ay > az ? i4_of(1) : i4_of(2));
-  i4 kx = kz == i4_of(2) ? i4_of(0) : kz + 1;
-  i4 ky = kx == i4_of(2) ? i4_of(0) : kx + 1;
-  f4 dz = pick(kz, dir[0], dir[1], dir[2]);
-  i4 flip = dz < zero, tmp = kx;
-  kx = flip ? ky : kx;
-  ky = flip ? tmp : ky;
-  f4 Sx = pick(kx, dir[0], dir[1], dir[2]) / dz, Sy = pick(ky, dir[0], dir[1], dir[2]) / dz;
-  f4 Sz = 1.0f / dz;
-  // rel(v, i) = v[i] - org[i], per component, then picked.
-  auto rel = [&](Vec3 v, i4 i) { return pick(i, v.x - org[0], v.y - org[1], v.z - org[2]); };
-  f4 Az = rel(sh.a, kz), Bz = rel(sh.b, kz), Cz = rel(sh.c, kz);
-  f4 Ax = rel(sh.a, kx) - Sx * Az, Ay = rel(sh.a, ky) - Sy * Az;
-  f4 Bx = rel(sh.b, kx) - Sx * Bz, By = rel(sh.b, ky) - Sy * Bz;
-  f4 Cx = rel(sh.c, kx) - Sx * Cz, Cy = rel(sh.c, ky) - Sy * Cz;
+  // rel(v, i) = v[i] - org[i].
+  f4 aX, aY, aZ, bX, bY, bZ, cX, cY, cZ;
+  if (o.uniform) {
+    f4 ox = org[o.kx], oy = org[o.ky], oz = org[o.kz];
+    aX = comp3(sh.a, o.kx) - ox, aY = comp3(sh.a, o.ky) - oy, aZ = comp3(sh.a, o.kz) - oz;
+    bX = comp3(sh.b, o.kx) - ox, bY = comp3(sh.b, o.ky) - oy, bZ = comp3(sh.b, o.kz) - oz;
+    cX = comp3(sh.c, o.kx) - ox, cY = comp3(sh.c, o.ky) - oy, cZ = comp3(sh.c, o.kz) - oz;
+  } else {
+    auto rel = [&](Vec3 v, i4 i) { return pick(i, v.x - org[0], v.y - org[1], v.z - org[2]); };
+    aX = rel(sh.a, o.ix), aY = rel(sh.a, o.iy), aZ = rel(sh.a, o.iz);
+    bX = rel(sh.b, o.ix), bY = rel(sh.b, o.iy), bZ = rel(sh.b, o.iz);
+    cX = rel(sh.c, o.ix), cY = rel(sh.c, o.iy), cZ = rel(sh.c, o.iz);
+  }
+  f4 Sx = o.Sx, Sy = o.Sy, Sz = o.Sz;
+  f4 Ax = aX - Sx * aZ, Ay = aY - Sy * aZ;
+  f4 Bx = bX - Sx * bZ, By = bY - Sy * bZ;
+  f4 Cx = cX - Sx * cZ, Cy = cY - Sy * cZ;
   f4 U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
   u32 exact = lane_bits((U == zero) | (V == zero) | (W == zero)) & lanes;
   lanes &= ~exact;
   if (lanes) {
     i4 outside = ((U < zero) | (V < zero) | (W < zero)) & ((U > zero) | (V > zero) | (W > zero));
     f4 det = U + V + W;
-    f4 T = U * Sz * Az + V * Sz * Bz + W * Sz * Cz;
+    f4 T = U * Sz * aZ + V * Sz * bZ + W * Sz * cZ;
     f4 t = T / det;
     i4 ok = lanes_of(lanes) & ~outside & (det != zero) & (t > zero) & (t < st.t);
     take(st, ok, t, object);
@@ -129,8 +178,11 @@ void triangle_lanes(const Shape& sh, const f4 org[3], const f4 dir[3], u32 lanes
   if (exact) scalar_lanes(sh, org, dir, exact, object, st);
 }
 
-// intersect_t() of object i for the lanes of `lanes`.
-void object_lanes(const Scene& s, int i, const f4 org[3], const f4 dir[3], u32 lanes, Hits4& st) {
+// intersect_t() of object i for the lanes of `lanes`; `shear` is set by
+// the first triangle of the packet (for the lanes of `live`).
+__attribute__((always_inline)) inline void object_lanes(const Scene& s, int i, const f4 org[3],
+                                                        const f4 dir[3], u32 lanes, u32 live,
+                                                        Shear& shear, bool& sheared, Hits4& st) {
   const Shape& sh = s.objects[i].shape;
   switch (sh.kind) {
   case kSphere:
@@ -140,7 +192,11 @@ void object_lanes(const Scene& s, int i, const f4 org[3], const f4 dir[3], u32 l
     plane_lanes(sh, org, dir, lanes, i, st);
     break;
   case kTriangle:
-    triangle_lanes(sh, org, dir, lanes, i, st);
+    if (!sheared) {
+      shear_of(dir, live, shear);
+      sheared = true;
+    }
+    triangle_lanes(sh, org, dir, shear, lanes, i, st);
     break;
   case kCylinder:
   case kCone: {
@@ -156,71 +212,90 @@ void object_lanes(const Scene& s, int i, const f4 org[3], const f4 dir[3], u32 l
   }
 }
 
-// Bits 0..7 of x to bits 0, 4, ..., 28 (a nibble per object).
-inline u32 spread(u32 x) {
-  x &= 0xffu;
-  x = (x | x << 12) & 0x000f000fu;
-  x = (x | x << 6) & 0x03030303u;
-  return (x | x << 3) & 0x11111111u;
+// The lone solid i for the lanes of `lanes` (out of line: rare for the
+// first children, which are mostly reflected rays).
+__attribute__((noinline)) void only_lanes(const Scene& s, int i, const f4 org[3], const f4 dir[3],
+                                          u32 lanes, Hits4& st) {
+  Shear shear;
+  bool sheared = false;
+  object_lanes(s, i, org, dir, lanes, lanes, shear, sheared, st);
+}
+
+// bound_mask's test of slot i (its terms in lane i & 3 of bx, by, bz, r2)
+// for the four rays: lane k's bit of nibble i set in `objects` where its ray
+// may meet the bound (an unbounded object: always) and does not skip the
+// object (bit i of skip[k]).
+template <int i>
+__attribute__((always_inline)) inline void bound_slot(const Scene& s, f4 bx, f4 by, f4 bz, f4 r2,
+                                                      const f4 org[3], const f4 dir[3], i4 skip,
+                                                      u32& objects) {
+  constexpr int j = i & 3;
+  i4 out = skip << (31 - i); // the sign: bit i
+  if (!(s.unboundedMask >> i & 1)) {
+    f4 fx = org[0] - shade4::lane_splat<j>(bx), fy = org[1] - shade4::lane_splat<j>(by);
+    f4 fz = org[2] - shade4::lane_splat<j>(bz);
+    f4 b = fx * dir[0] + fy * dir[1] + fz * dir[2];
+    f4 c = fx * fx + fy * fy + fz * fz - shade4::lane_splat<j>(r2);
+    out |= (b * b < c) | (__builtin_ia32_minps(b, c) > f4_of(0.0f));
+  }
+  objects |= (~lane_bits(out) & 15u) << 4 * i;
+}
+
+// The slots g .. g + 3 below s.numObjects.
+template <int g>
+__attribute__((always_inline)) inline void bound_group(const Scene& s, const f4 org[3],
+                                                       const f4 dir[3], i4 skip, u32& objects) {
+  f4 bx = *(const f4*)(s.boundX + g), by = *(const f4*)(s.boundY + g);
+  f4 bz = *(const f4*)(s.boundZ + g), r2 = *(const f4*)(s.boundR2 + g);
+  int n = s.numObjects - g;
+  bound_slot<g>(s, bx, by, bz, r2, org, dir, skip, objects);
+  if (n > 1) bound_slot<g + 1>(s, bx, by, bz, r2, org, dir, skip, objects);
+  if (n > 2) bound_slot<g + 2>(s, bx, by, bz, r2, org, dir, skip, objects);
+  if (n > 3) bound_slot<g + 3>(s, bx, by, bz, r2, org, dir, skip, objects);
 }
 
 } // namespace
 
 void nearest4(const Scene& s, const f4 org[3], const f4 dir[3], const u32 skip[4], u32 lanes,
               Hits4& out) {
+  static_assert(kMaxObjects == 8, "two groups of four slots");
   out.t = f4_of(kHuge);
   out.id = i4_of(-1);
   out.piece = i4_of(0);
   out.local = f4_of(0.0f);
-  // The lone-solid shortcut: each lane's named object first, one call per
+  i4 skips = *(const i4*)skip;
+  // The lone-solid shortcut: each lane's named object first, one pass per
   // object named (the lanes with a hit are done).
-  u32 search = lanes, only = 0;
-  for (u32 m = lanes; m; m &= m - 1) {
-    int k = __builtin_ctz(m);
-    if (skip[k] >> kOnlyShift) only |= 1u << k;
-  }
+  u32 search = lanes;
+  u32 only = lane_bits((skips >> kOnlyShift) != i4_of(0)) & lanes;
   while (only) {
-    u32 o = skip[__builtin_ctz(only)] >> kOnlyShift, group = 0;
-    for (u32 m = only; m; m &= m - 1) {
-      int k = __builtin_ctz(m);
-      if (skip[k] >> kOnlyShift == o) group |= 1u << k;
-    }
+    u32 o = skip[__builtin_ctz(only)] >> kOnlyShift;
+    u32 group = lane_bits((skips >> kOnlyShift) == i4_of((i32)o)) & only;
     only &= ~group;
-    object_lanes(s, (int)o - 1, org, dir, group, out);
+    only_lanes(s, (int)o - 1, org, dir, group, out);
     search &= ~(group & lane_bits(out.id >= i4_of(0)));
   }
   if (!search) return;
-  // nearest(): each lane's range (all & ~skip) as a nibble of lanes per
-  // object, then bound_mask's test, four lanes a bound.
-  u32 all = s.numObjects >= 8 ? 0xffu : (1u << s.numObjects) - 1;
-  u32 range = 0;
-  for (u32 m = search; m; m &= m - 1) {
-    int k = __builtin_ctz(m);
-    range |= spread(all & ~skip[k]) << k;
-  }
-  u32 objects = spread(s.unboundedMask) * 15u;
-  f4 zero = f4_of(0.0f);
-  for (int i = 0; i < s.numObjects; ++i) {
-    if (!(range >> 4 * i & 15) || (s.unboundedMask >> i & 1)) continue;
-    f4 fx = org[0] - s.boundX[i], fy = org[1] - s.boundY[i], fz = org[2] - s.boundZ[i];
-    f4 b = fx * dir[0] + fy * dir[1] + fz * dir[2];
-    f4 c = fx * fx + fy * fy + fz * fz - s.boundR2[i];
-    i4 miss = (b * b < c) | (__builtin_ia32_minps(b, c) > zero);
-    objects |= (~lane_bits(miss) & 15u) << 4 * i;
-  }
-  objects &= range;
+  // nearest(): bound_mask's test, four lanes a bound, each lane less the
+  // objects it skips; a nibble of lanes per object.
+  u32 objects = 0;
+  if (s.numObjects > 0) bound_group<0>(s, org, dir, skips, objects);
+  if (s.numObjects > 4) bound_group<4>(s, org, dir, skips, objects);
+  objects &= search * 0x11111111u;
   u32 foreground = s.numForeground >= 8 ? ~0u : (1u << 4 * s.numForeground) - 1;
   // The foreground in index order, then the background for the lanes that
   // met no foreground object.
-  for (u32 m = objects & foreground; m;) {
+  Shear shear;
+  bool sheared = false;
+  for (u32 m = objects & foreground;;) {
+    if (!m) {
+      u32 none = lane_bits(out.id < i4_of(0)) & search;
+      m = objects & ~foreground & none * 0x11111111u;
+      objects = foreground; // the background's turn: next time, done
+      if (!m) break;
+    }
     int i = __builtin_ctz(m) >> 2;
-    object_lanes(s, i, org, dir, m >> 4 * i & 15, out);
-    m &= ~(15u << 4 * i);
-  }
-  u32 none = lane_bits(out.id < i4_of(0)) & search;
-  for (u32 m = objects & ~foreground & none * 0x11111111u; m;) {
-    int i = __builtin_ctz(m) >> 2;
-    object_lanes(s, i, org, dir, m >> 4 * i & 15, out);
+    object_lanes(s, i, org, dir, m >> 4 * i & 15, search, shear, sheared, out);
     m &= ~(15u << 4 * i);
   }
 }

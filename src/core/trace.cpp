@@ -2,7 +2,6 @@
 // Cook-Torrance shading.
 #include "trace.h"
 
-#include "packet/nearest4.h"
 #include "packet/packet.h"
 
 bool same_path(const PathRecord& a, const PathRecord& b) {
@@ -13,6 +12,8 @@ bool same_path(const PathRecord& a, const PathRecord& b) {
 }
 
 namespace {
+
+typedef float f4 __attribute__((vector_size(16)));
 
 // Bit i set: the ray may hit object i (of those in `range`), judged by its
 // bounding sphere (conservative: a clear bit is a sure miss). Four bounds
@@ -418,39 +419,13 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
 // rather than once a lane.
 __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
                                               PathRecord* paths, Vec3 color[4]) {
-  // The first ray each lane's resume pops (its highest waiting slot: the
-  // reflected child if any, else the refracted one) has its hit found for
-  // the four lanes at once: nearest4() gives find_hit()'s, which the tree's
-  // kFindHit step would (docs/tracer-speed.md, round twelve).
-  f4 org[3] = {}, dir[3] = {};
-  u32 skip[4] = {0, 0, 0, 0}, first = 0;
-  for (u32 m = lanes; m; m &= m - 1) {
-    int k = __builtin_ctz(m);
-    u32 waiting = root[k].waiting;
-    if (!waiting) continue;
-    const Pending& next = root[k].child[31 - __builtin_clz(waiting) - kRootSlot];
-    org[0][k] = next.ray.org.x;
-    org[1][k] = next.ray.org.y;
-    org[2][k] = next.ray.org.z;
-    dir[0][k] = next.ray.dir.x;
-    dir[1][k] = next.ray.dir.y;
-    dir[2][k] = next.ray.dir.z;
-    skip[k] = next.skip;
-    first |= 1u << k;
-  }
-  Hits4 found;
-  if (first) nearest4(*ctx.scene, org, dir, skip, first, found);
   Hit hit;
   for (; lanes; lanes &= lanes - 1) {
     int k = __builtin_ctz(lanes);
     if (paths) ctx.record = &paths[k];
-    if (first >> k & 1) {
-      hit.t = found.t[k];
-      hit.piece = (u8)found.piece[k];
-      hit.local = found.local[k];
-      color[k] =
-          trace_tree<true>(ctx, root[k].child[0].ray, found.id[k], hit, 1, 1.0f, 0, &root[k]);
-    } else
+    if (root[k].waiting)
+      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root[k]);
+    else
       color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
   }
 }
@@ -496,6 +471,7 @@ CameraRays camera_rays(const Scene& scene, int width, int height) {
 // below; -Inf, NaN and huge negatives convert to INT_MIN).
 namespace {
 
+typedef int i4 __attribute__((vector_size(16)));
 typedef short s8 __attribute__((vector_size(16)));
 typedef char c16 __attribute__((vector_size(16)));
 

@@ -13,7 +13,6 @@
 // calls; the Wine screenshot tests compare intro.exe with `rt64k render`).
 // The per-frame terms are not needed: primary_terms() only records the
 // origin.
-#include "packet/nearest4.h"
 #include "packet/packet.h"
 
 void primary_terms(const Scene&, Vec3 org, PrimaryTerms& out) { out.org = org; }
@@ -58,26 +57,4 @@ void render_rows4(const Scene& scene, const CameraRays& cam, u32* fb, int width,
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
   stats->shadow += ctx.stats.shadow;
-}
-
-// find_hit() lane by lane (trace_children4 calls it; intro.exe links no
-// caller of trace_children4, so --gc-sections drops both). Lane by lane
-// stores only: a four-lane constant would stay in the exe's constant pool.
-void nearest4(const Scene& s, const f4 org[3], const f4 dir[3], const u32 skip[4], u32 lanes,
-              Hits4& out) {
-  for (int k = 0; k < 4; ++k) {
-    Hit hit;
-    int id = -1;
-    hit.t = kHuge;
-    hit.piece = 0;
-    hit.local = 0.0f;
-    if (lanes >> k & 1)
-      id = find_hit(
-          s, Ray{Vec3{org[0][k], org[1][k], org[2][k]}, Vec3{dir[0][k], dir[1][k], dir[2][k]}},
-          skip[k], hit);
-    out.id[k] = id;
-    out.t[k] = id < 0 ? kHuge : hit.t;
-    out.piece[k] = id < 0 ? 0 : hit.piece;
-    out.local[k] = id < 0 ? 0.0f : hit.local;
-  }
 }

@@ -410,6 +410,15 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
 }
 
+int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit) {
+  // trace_tree's kFindHit step, line for line.
+  u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
+  u32 only = skip >> kOnlyShift;
+  hit.t = kHuge;
+  if (only && intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit)) return (int)only - 1;
+  return nearest(s, ray, hit, all & ~skip, foreground);
+}
+
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
   return shadow_test(s, ray, dist, mask, code, exits);
 }

@@ -166,6 +166,13 @@ struct TreePart {
 // root[k].pre[0] (packet/shade.h).
 RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes, u32 shaded,
                                    PathRecord* paths, Vec3 color[4]);
+// trace_tree's kFindHit step for one waiting ray with its skip (object
+// bits, and from kOnlyShift the lone solid to test first): hit.t = kHuge,
+// that solid's intersect_t() where one is named, else (or where it finds
+// nothing) nearest() over the scene's objects less the skipped ones. Returns
+// the object (-1: none) with hit's t, piece and local. nearest4()
+// (packet/nearest4.h) does it for four rays.
+int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit);
 // Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
 // may meet object i (of those in `range`) before the light, judged by its
 // bound (conservative, as bound_mask). The segment is taken from the light's

@@ -5,6 +5,7 @@
 // adds to a sum of 0, so does this code, so that no rounding differs.
 #include "packet/shade.h"
 
+#include "packet/frustum.h"
 #include "packet/pow4.h"
 
 namespace {
@@ -411,6 +412,46 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
 // likewise their reflected children, inside the same solid, into pre[1]
 // (root[k].deep). Returns the lanes shaded (0 or `have`);
 // trace_children4() takes them up in the tree's order.
+// The lone-solid test of a cylinder or cone for the waiting rays *src[k]
+// of the lanes `have` (tMin 0, from hit.t = kHuge): hit_frustum() in lanes
+// (frustum_lanes4(), packet/frustum.h), the lanes it does not mirror through
+// intersect_t(). True, with each lane's t, piece and local in dst[k]->hit,
+// where every lane's ray hits it.
+bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const dst[4], u32 have) {
+  int first = __builtin_ctz(have);
+  const float* r0[4];
+  const float* r1[4];
+  for (int k = 0; k < 4; ++k) {
+    const Pending& p = *src[have >> k & 1 ? k : first];
+    r0[k] = &p.ray.org.x;
+    r1[k] = &p.ray.dir.y;
+  }
+  f4 a[4], b[4];
+  columns(r0, a);
+  columns(r1, b);
+  f4 org[3] = {a[0], a[1], a[2]}, dir[3] = {a[3], b[0], b[1]};
+  FrustumTerms4 terms;
+  frustum_terms4(sh, org, terms);
+  f4 t = f4_of(kHuge), local = f4_of(0.0f);
+  i4 piece = i4_of(0);
+  FrustumLanes fl = frustum_lanes4(sh, terms, dir, have, t, piece, local);
+  if ((fl.hit | fl.rest) != have) return false;
+  for (u32 q = fl.hit; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    Hit& hit = dst[k]->hit;
+    hit.t = t[k];
+    hit.piece = (u8)piece[k];
+    hit.local = local[k];
+  }
+  for (u32 q = fl.rest; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    Hit& hit = dst[k]->hit;
+    hit.t = kHuge;
+    if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return false;
+  }
+  return true;
+}
+
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
@@ -428,12 +469,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   if (sphere) {
     if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
   } else {
-    for (u32 q = have; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      Hit& hit = dst[k]->hit;
-      hit.t = kHuge;
-      if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return 0; // the tree searches again
-    }
+    if (!frustum_hits4(sh, src, dst, have)) return 0; // the tree searches again
     shade_child4<2, false>(ctx, src, dst, have, true, id, maxDepth);
   }
   // The reflected children inside the solid (depth 3), where every lane has
@@ -449,12 +485,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   if (sphere) {
     if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
   } else {
-    for (u32 q = have; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      Hit& hit = dst[k]->hit;
-      hit.t = kHuge;
-      if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return have;
-    }
+    if (!frustum_hits4(sh, src, dst, have)) return have;
     shade_child4<3, false>(ctx, src, dst, have, true, id, maxDepth);
   }
   for (u32 q = have; q; q &= q - 1)

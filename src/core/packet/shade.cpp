@@ -93,6 +93,59 @@ struct Lanes3 {
   Vec3 lane(int k) const { return Vec3{v[0][k], v[1][k], v[2][k]}; }
 };
 
+// The lanes of `mine` (their shadow rays to light li, from org along L to
+// dist: each one's one candidate object j, a sphere, cylinder or cone, not
+// crossed untested): shadow_test() (trace.cpp) of that one object in lanes:
+// hit_sphere() (tMin 0, hit.t = dist) with its operations in its order, or
+// hit_frustum() by frustum_lanes4() (packet/frustum.h), then where it hits,
+// a transparent solid multiplies v3(1) by colour * transmit (that product,
+// bit for bit), code 1, an opaque one gives code 3 and no light; a miss
+// code 0. tv, shadowed and the codes in bits are set for them. Returns the
+// lanes done (a frustum's lanes that frustum_lanes4() does not mirror are
+// left to the caller's scalar test).
+__attribute__((noinline)) u32 solid_shadows4(const Scene& s, int j, u32 mine, const V4& org,
+                                             const V4& L, f4 dist, int li, V4& tv, u32& shadowed,
+                                             u32 bits[4]) {
+  const Object& o = s.objects[j];
+  const Shape& sh = o.shape;
+  f4 zero = f4_of(0.0f);
+  u32 hit, rest = 0;
+  if (sh.kind != kSphere) {
+    // A cylinder or cone: hit_frustum() in lanes (frustum_lanes4()), the
+    // lanes it does not mirror left to the caller.
+    f4 o3[3] = {org.x, org.y, org.z}, d3[3] = {L.x, L.y, L.z};
+    FrustumTerms4 terms;
+    frustum_terms4(sh, o3, terms);
+    f4 t = dist, local = zero;
+    i4 piece = i4_of(0);
+    FrustumLanes fl = frustum_lanes4(sh, terms, d3, mine, t, piece, local);
+    hit = fl.hit & mine;
+    rest = fl.rest & mine;
+  } else {
+    V4 f = org - splat(sh.a);
+    f4 b = dot(f, L);
+    V4 perp = f - L * b;
+    float r2 = sh.r0 * sh.r0;
+    f4 disc = f4_of(r2) - dot(perp, perp);
+    f4 c = dot(f, f) - f4_of(r2);
+    f4 root = lane_sqrt(disc);
+    f4 q = -(b + (b >= zero ? root : -root));
+    f4 t0 = c / q, t1 = q;
+    i4 swap = t0 > t1;
+    f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
+    f4 t = lo > zero ? lo : hi;
+    hit = lane_bits(~(disc < zero) & (q != zero) & (t > zero) & (t < dist)) & mine;
+  }
+  if (!hit) return mine & ~rest;
+  u32 code = o.mat.transmit <= 0 ? 3 : 1;
+  V4 ct = code == 3 ? V4{zero, zero, zero} : splat(o.mat.color * o.mat.transmit);
+  tv = select(lanes_of(hit), ct, tv);
+  if (code == 3) shadowed |= hit;
+  for (; hit; hit &= hit - 1)
+    bits[__builtin_ctz(hit)] |= code << (5 + 3 * li);
+  return mine & ~rest;
+}
+
 // Phong's specular term where the kSpecExp cut leaves it, r_S (V.R)^h: out
 // of line, as few lanes need it (its double lanes would make the caller
 // align its frame to 32 bytes).
@@ -365,6 +418,20 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
           for (u32 q = alone; q; q &= q - 1)
             bits[__builtin_ctz(q)] |= code << (5 + 3 * li);
           cand &= ~alone;
+        }
+      }
+      if (cand) {
+        // Lanes whose one candidate is a sphere, cylinder or cone (other
+        // than the solid a lane exits): in lanes (solid_shadows4()).
+        u32 m0 = objects[__builtin_ctz(cand)];
+        int j = __builtin_ctz(m0 | 1u << 31);
+        if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
+            s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
+          u32 mine = lane_bits(*(i4*)objects == i4_of((i32)m0)) & cand;
+          if (j == id && exitsLight) mine &= ~inside;
+          if (mine) {
+            cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(f4*)dist, li, tv, shadowed, bits);
+          }
         }
       }
       if (cand) {
@@ -734,6 +801,20 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     u32 shadowed = 0;
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
     V4 tv = {one, one, one};
+    if (cand) {
+      // Lanes whose one candidate is a sphere, cylinder or cone (other than
+      // the solid a lane exits): in lanes (solid_shadows4()).
+      u32 m0 = objects[__builtin_ctz(cand)];
+      int j = __builtin_ctz(m0 | 1u << 31);
+      if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
+          s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
+        u32 mine = lane_bits(*(i4*)objects == i4_of((i32)m0)) & cand;
+        if (s.lightC[li][j] > 0) mine &= ~(inside & lane_bits(ids == i4_of(j)));
+        if (mine) {
+          cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(f4*)dist, li, tv, shadowed, bits);
+        }
+      }
+    }
     if (cand) {
       // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
       Lanes3 dirL, through;

@@ -12,7 +12,8 @@
 // that the children's weights fall on both sides of every cut (kMinRayWeight at
 // the spawn, kRecordWeight and kRecordWeightGlass for the record, kShadowSkip
 // for the shadow rays), and its colour and ior too (total internal reflection
-// inside, a dark solid whose shadow rays are cut more often).
+// inside, a dark solid whose shadow rays are cut more often); in a fourth
+// view of each solid the lights behind other objects.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -93,7 +94,7 @@ TEST(Shade4Second, LoneSolidPacketsMatchPerLaneAcrossTheWeightCuts) {
   std::uniform_int_distribution<int> lanes(1, 4);
   const int w = 48, h = 36;
   Counts c;
-  long solids = 0;
+  long solids = 0, moved = 0;
   for (int frame = 0; frame < 48; ++frame) {
     Scene s;
     build_timeline_scene(s, frame % 2 ? t2(rng) : t1(rng)); // both models
@@ -111,7 +112,27 @@ TEST(Shade4Second, LoneSolidPacketsMatchPerLaneAcrossTheWeightCuts) {
       const Shape& sh = o.shape;
       Vec3 centre = sh.kind == kSphere ? sh.a : sh.a + sh.b * (0.5f * sh.h);
       float r = sh.kind == kSphere ? sh.r0 : rt_max(sh.r0, 0.5f * sh.h);
-      for (int view = 0; view < 3; ++view) {
+      for (int view = 0; view < 4; ++view) {
+        if (view == 3) {
+          // The lights moved behind other objects (just outside their
+          // bounds, on the far side from the solid): shadow rays from the
+          // solid's inside and surface whose one candidate is another
+          // object, which the shading points test in lanes.
+          int n = s.numLights;
+          Light old[kMaxLights];
+          for (int l = 0; l < n; ++l)
+            old[l] = s.lights[l];
+          s.numLights = 0;
+          for (int l = 0; l < n; ++l) {
+            int j = (int)(rng() % s.numForeground);
+            Vec3 cj = {s.boundX[j], s.boundY[j], s.boundZ[j]};
+            Vec3 away =
+                normalize(cj - centre + v3(sym(rng), sym(rng), sym(rng)) * 0.3f, v3(0, 1, 0));
+            scene_add_light(s, cj + away * (s.boundR[j] * (1.05f + 2.0f * frac(rng))),
+                            old[l].color);
+          }
+          ++moved;
+        }
         Vec3 d = normalize(v3(sym(rng), 0.6f * sym(rng) + 0.2f, sym(rng)), v3(0, 0, 1));
         s.camera.pos = centre + d * (r * (2.5f + 6.0f * frac(rng)));
         s.camera.target = centre + v3(sym(rng), sym(rng), sym(rng)) * (0.3f * r);
@@ -136,6 +157,7 @@ TEST(Shade4Second, LoneSolidPacketsMatchPerLaneAcrossTheWeightCuts) {
   EXPECT_EQ(c.path, 0) << "records differ on " << c.path;
   EXPECT_EQ(c.stats, 0) << "ray counts differ in " << c.stats << " packets";
   EXPECT_GT(solids, 60);
+  EXPECT_EQ(moved, solids);
   EXPECT_GT(c.lanes, 100000);
   EXPECT_GT(c.second, 30000);
   EXPECT_GT(c.mixed, 3000);

@@ -439,6 +439,7 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
   for (int step = 0; step < 3; ++step) {
     const Pending* kids;
     u32 part;
+    int id = kFindHit;
     if (step == 0) {
       kids = r.child;
       part = r.waiting & 1u << (kRootSlot + 1);
@@ -454,10 +455,20 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
     } else {
       kids = pre.child;
       part = r.deep ? pre.waiting & ~(1u << (2 * 2 + 3)) : pre.waiting;
+      const PreNode& out = r.pre[2];
+      if (r.exit == 2) {
+        if (rec && out.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = out.node;
+        sum += out.color * pre.child[0].weight;
+        kids = out.child;
+        part = out.waiting;
+      } else if (r.exit == 1) {
+        id = out.id;
+        hit = out.hit;
+      }
     }
     if (part) {
       TreePart tp{kids, part, sum};
-      sum = trace_tree<true>(ctx, kids->ray, kFindHit, hit, 2, 1.0f, 0, &tp);
+      sum = trace_tree<true>(ctx, kids->ray, id, hit, 2, 1.0f, 0, &tp);
     }
   }
   return sum;

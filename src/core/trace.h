@@ -146,7 +146,8 @@ struct RootNode {
   u32 waiting;
   Vec3 sum;
   bool deep;
-  PreNode pre[2];
+  u8 exit; // pre[2]: the shaded child's refracted child (its slot 6): 1 found, 2 shaded
+  PreNode pre[3];
 };
 // A part of a primary ray's tree for trace.cpp's resume (trace_children4):
 // waiting rays of one depth, kids[0] in the refracted ray's slot and kids[1]

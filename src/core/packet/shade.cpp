@@ -559,47 +559,48 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   for (u32 q = have; q; q &= q - 1)
     root[__builtin_ctz(q)].deep = true;
   // The refracted children out of the solid (depth 3, after the reflected
-  // ones: where every lane has one): found by find_hit(); where all see
-  // nothing, the tree's miss; where all hit one object, shaded in lanes;
-  // else the hits handed to the tree.
+  // ones: where every lane has one): found by find_hit(); the lanes that see
+  // nothing become the tree's miss, the lanes that hit the first hitting
+  // lane's object (at least two) are shaded in lanes, the others' hits are
+  // handed to the tree.
   const Scene& s = *ctx.scene;
   const u32 refracted = 1u << (2 * 2 + 2);
-  int out0 = -2;
-  bool same = true;
   for (u32 q = have; q; q &= q - 1)
     if (!(root[__builtin_ctz(q)].pre[0].waiting & refracted)) return have;
+  alignas(16) i32 outId[4] = {-1, -1, -1, -1};
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     const Pending& p = root[k].pre[0].child[0];
     PreNode& out = root[k].pre[2];
-    out.id = find_hit(s, p.ray, p.skip, out.hit);
-    if (out0 == -2) out0 = out.id;
-    same &= out.id == out0;
+    outId[k] = out.id = find_hit(s, p.ray, p.skip, out.hit);
     root[k].exit = 1;
     src[k] = &p;
     dst[k] = &out;
   }
-  if (!same) return have;
-  if (out0 < 0) {
+  u32 miss = lane_bits(*(i4*)outId < i4_of(0)) & have;
+  for (u32 q = miss; q; q &= q - 1) {
     // trace_tree's miss (depth 3, past glass): node 0, the background.
-    for (u32 q = have; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      PreNode& out = root[k].pre[2];
-      float w = root[k].pre[0].child[0].weight;
-      out.color = s.background;
-      out.node = 0;
-      out.records = w >= kRecordWeight || w >= kRecordWeightGlass;
-      out.waiting = 0;
-      root[k].exit = 2;
-    }
-    return have;
+    int k = __builtin_ctz(q);
+    PreNode& out = root[k].pre[2];
+    float w = root[k].pre[0].child[0].weight;
+    out.color = s.background;
+    out.node = 0;
+    out.records = w >= kRecordWeight || w >= kRecordWeightGlass;
+    out.waiting = 0;
+    root[k].exit = 2;
   }
-  bool ok = s.objects[out0].shape.kind == kSphere
-                ? shade_child4<3, true>(ctx, src, dst, have, true, out0, maxDepth)
-                : shade_child4<3, false>(ctx, src, dst, have, true, out0, maxDepth);
-  if (ok)
-    for (u32 q = have; q; q &= q - 1)
-      root[__builtin_ctz(q)].exit = 2;
+  u32 hits = have & ~miss;
+  if (!hits) return have;
+  int out0 = outId[__builtin_ctz(hits)];
+  u32 sub = lane_bits(*(i4*)outId == i4_of(out0)) & hits;
+  if (sub & (sub - 1)) {
+    bool ok = s.objects[out0].shape.kind == kSphere
+                  ? shade_child4<3, true>(ctx, src, dst, sub, true, out0, maxDepth)
+                  : shade_child4<3, false>(ctx, src, dst, sub, true, out0, maxDepth);
+    if (ok)
+      for (u32 q = sub; q; q &= q - 1)
+        root[__builtin_ctz(q)].exit = 2;
+  }
   return have;
 }
 

@@ -900,10 +900,16 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     root[k].waiting = waiting[k];
     root[k].sum = sum.lane(k);
   }
-  // The second level: a uniform packet's refracted children all into its
-  // lone sphere.
+  // The second level: the refracted children into a lone solid (second4()).
   u32 shaded = 0;
-  if (castT && uniform && (s.aloneMask >> id[first] & 1))
-    shaded = second4(ctx, root, castT, id[first], maxDepth);
+  if (castT) {
+    // The lanes with a refracted child whose primary ray hit the first such
+    // lane's object, a lone solid (every lane of a uniform packet; two or
+    // more of a mixed one).
+    int j = id[__builtin_ctz(castT)];
+    u32 grp = uniform ? castT : lane_bits(ids == i4_of(j)) & castT;
+    if ((s.aloneMask >> j & 1) && (uniform || (grp & (grp - 1))))
+      shaded = second4(ctx, root, grp, j, maxDepth);
+  }
   trace_children4(ctx, root, lanes, shaded, paths, color);
 }

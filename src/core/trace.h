@@ -116,15 +116,16 @@ constexpr int kOnlyShift = 16;
 // The slots of a primary ray's children (depth 2): kRootSlot the refracted
 // ray, kRootSlot + 1 the reflected one.
 constexpr int kRootSlot = 4;
-// A primary ray's child (depth 2) whose hit, and maybe its whole node, the
-// packet tracer found ahead of the tree (packet/shade.h, "the second
-// level"): `id` and `hit` as trace_tree's nearest-hit step gives them for
-// the child's ray; when shaded, also the node's own colour (ambient plus
-// the light terms, not yet times its weight), its PathRecord node (id + 1
-// and the light bits, highlight bits as if recorded), whether it records,
-// and its children (child[0] in slot 6 for the refracted ray, child[1] in
-// slot 7 for the reflected one, each valid where its bit is set in
-// `waiting`). Its rays were counted when it was shaded.
+// A node of a primary ray's tree at depth 2 or 3 whose hit, and maybe its
+// whole node, the packet tracer found ahead of the tree (packet/shade.h,
+// "the second level"): `id` and `hit` as trace_tree's nearest-hit step
+// gives them for its ray (find_hit()); when shaded, also the node's own
+// colour (ambient plus the light terms, not yet times its weight; the
+// background for a miss), its PathRecord node (id + 1 and the light bits,
+// highlight bits as if recorded), whether it records, and its children
+// (child[0] in the next depth's refracted slot, child[1] in its reflected
+// one, each valid where its slot's bit is set in `waiting`). Its rays were
+// counted when it was shaded.
 struct PreNode {
   Pending child[2];
   Hit hit;
@@ -140,7 +141,9 @@ struct PreNode {
 // and the root's share of the sum, v3(0) + colour * 1 (packet/shade.h).
 // Where the refracted child (slot kRootSlot) was shaded ahead, pre[0]
 // holds it (trace_children4's `shaded` lanes); where `deep` is set, pre[1]
-// holds that child's reflected child (depth 3, its slot 7), shaded too.
+// holds that child's reflected child (depth 3, its slot 7), shaded too, and
+// where `exit` is 1 or 2, pre[2] its refracted child (slot 6), found or
+// shaded (only with `deep` or no reflected child).
 struct RootNode {
   Pending child[2];
   u32 waiting;

@@ -2,7 +2,9 @@
 // shade.h. Every expression below repeats trace_tree's (trace.cpp) for the
 // root node (depth 1, weight 1, nothing passed through glass yet), lane by
 // lane, in the same order: where trace_tree multiplies by the weight 1 or
-// adds to a sum of 0, so does this code, so that no rounding differs.
+// adds to a sum of 0, so does this code, so that no rounding differs. The
+// second level (second4(), shade_child4()) does the same for nodes of depth
+// 2 and 3 with each lane's own weight, origin and skip bits.
 #include "packet/shade.h"
 
 #include "packet/frustum.h"

@@ -143,7 +143,7 @@ struct PreNode {
 // holds it (trace_children4's `shaded` lanes); where `deep` is set, pre[1]
 // holds that child's reflected child (depth 3, its slot 7), shaded too, and
 // where `exit` is 1 or 2, pre[2] its refracted child (slot 6), found or
-// shaded (only with `deep` or no reflected child).
+// shaded (only where `deep` is set).
 struct RootNode {
   Pending child[2];
   u32 waiting;

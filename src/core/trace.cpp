@@ -183,14 +183,18 @@ constexpr int kFindHit = -2;
 // inlined into trace(), cost 430 packed bytes).
 //
 // Resume (trace_children4(), one lane at a time): the root (a primary ray's node, depth 1,
-// weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), and
-// `root` holds its waiting children and its share of the sum. A template
+// weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), maybe
+// some of its children too (the second level), and `part` holds waiting
+// rays of one depth and the sum so far; the result is the sum after their
+// subtrees (not divided by the root's weight, 1). `part` takes the place
+// of main's `root` pointer, so that trace_tree<false>, called with null,
+// compiles to the same bytes in intro.exe. A template
 // argument, so that trace() and trace_hit() keep the loop without the
 // resume (intro.exe, which links no packet code, holds that copy only;
 // the native tool holds both: docs/tracer-speed.md, round eleven).
 template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
-                                     int depth, float weight, u32 skip, const RootNode* root) {
+                                     int depth, float weight, u32 skip, const TreePart* part) {
   const Scene& s = *ctx.scene;
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
@@ -204,17 +208,21 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
   if (Resume) {
-    // Start at the root's first waiting child, as the loop's end would pop
-    // it (the loop itself as without a root: a test in it for the root's
-    // case cost 0.5 % of a frame).
-    // The first is read in place; a refracted ray after a reflected one
-    // waits in its slot.
-    waiting = root->waiting;
-    sum = root->sum;
+    // A part of a primary ray's tree (trace_children4): the sum so far and
+    // waiting rays of one depth, part->kids (their bits in part->waiting, a
+    // pair of slots: kids[0] the refracted ray's, kids[1] the reflected's),
+    // started at the first as the loop's end would pop it (the loop itself
+    // as without them: a test in it cost 0.5 % of a frame). The first is
+    // read in place; a refracted ray after a reflected one waits in its
+    // slot.
+    const Pending* kids = part->kids;
+    sum = part->sum;
+    waiting = part->waiting;
     int slot = 31 - __builtin_clz(waiting);
     waiting ^= 1u << slot;
-    if (waiting) pending[kRootSlot] = root->child[0];
-    const Pending& next = root->child[slot - kRootSlot];
+    int base = slot & ~1;
+    if (waiting) pending[base] = kids[0];
+    const Pending& next = kids[slot - base];
     cur = &next.ray;
     weight = next.weight;
     depth = slot >> 1;
@@ -387,6 +395,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
     id = kFindHit;
   }
   // Weights are relative to the root's (1 for a primary ray: no rounding).
+  if (Resume) return sum;
   return sum * (1.0f / rootWeight);
 }
 
@@ -401,22 +410,85 @@ Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, f
   return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
 }
 
+int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit) {
+  // trace_tree's kFindHit step, line for line.
+  u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
+  u32 only = skip >> kOnlyShift;
+  hit.t = kHuge;
+  if (only && intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit)) return (int)only - 1;
+  return nearest(s, ray, hit, all & ~skip, foreground);
+}
+
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
   return shadow_test(s, ray, dist, mask, code, exits);
 }
 
-// The tree inlined (flatten: trace_tree<true> has no other caller), so that
-// its frame, register saves and per-scene masks are set up once a packet
-// rather than once a lane.
+// A lane whose refracted child was shaded ahead (packet/shade.h, the
+// second level): the tree in parts, in its order: the reflected child's
+// subtree; the shaded child entering the record and the sum here; where
+// its reflected child was shaded too (r.deep), that one likewise, then its
+// children's subtrees; then the shaded child's other children's subtrees.
+// One call site of the tree, inlined into trace_children4 (flattened): a
+// second copy of the tree there (out of line: +0.05 to +0.18 % of scene 1's
+// frames).
+__attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const RootNode& r,
+                                                       Hit& hit) {
+  Vec3 sum = r.sum;
+  PathRecord* rec = ctx.record;
+  const PreNode& pre = r.pre[0];
+  for (int step = 0; step < 3; ++step) {
+    const Pending* kids;
+    u32 part;
+    int id = kFindHit;
+    if (step == 0) {
+      kids = r.child;
+      part = r.waiting & 1u << (kRootSlot + 1);
+    } else if (step == 1) {
+      if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
+      sum += pre.color * r.child[0].weight;
+      if (!r.deep) continue;
+      const PreNode& deep = r.pre[1];
+      if (rec && deep.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = deep.node;
+      sum += deep.color * pre.child[1].weight;
+      kids = deep.child;
+      part = deep.waiting;
+    } else {
+      kids = pre.child;
+      part = r.deep ? pre.waiting & ~(1u << (2 * 2 + 3)) : pre.waiting;
+      const PreNode& out = r.pre[2];
+      if (r.exit == 2) {
+        if (rec && out.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = out.node;
+        sum += out.color * pre.child[0].weight;
+        kids = out.child;
+        part = out.waiting;
+      } else if (r.exit == 1) {
+        id = out.id;
+        hit = out.hit;
+      }
+    }
+    if (part) {
+      TreePart tp{kids, part, sum};
+      sum = trace_tree<true>(ctx, kids->ray, id, hit, 2, 1.0f, 0, &tp);
+    }
+  }
+  return sum;
+}
+
+// The tree inlined (flatten: trace_tree<true> has no other caller here), so
+// that its frame, register saves and per-scene masks are set up once a
+// packet rather than once a lane.
 __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
-                                              PathRecord* paths, Vec3 color[4]) {
+                                              u32 shaded, PathRecord* paths, Vec3 color[4]) {
   Hit hit;
   for (; lanes; lanes &= lanes - 1) {
     int k = __builtin_ctz(lanes);
     if (paths) ctx.record = &paths[k];
-    if (root[k].waiting)
-      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &root[k]);
-    else
+    if (shaded >> k & 1)
+      color[k] = trace_split(ctx, root[k], hit) * 1.0f;
+    else if (root[k].waiting) {
+      TreePart tp{root[k].child, root[k].waiting, root[k].sum};
+      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &tp) * 1.0f;
+    } else
       color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
   }
 }

@@ -116,12 +116,48 @@ constexpr int kOnlyShift = 16;
 // The slots of a primary ray's children (depth 2): kRootSlot the refracted
 // ray, kRootSlot + 1 the reflected one.
 constexpr int kRootSlot = 4;
+// A node of a primary ray's tree at depth 2 or 3 whose hit, and maybe its
+// whole node, the packet tracer found ahead of the tree (packet/shade.h,
+// "the second level"): `id` and `hit` as trace_tree's nearest-hit step
+// gives them for its ray (find_hit()); when shaded, also the node's own
+// colour (ambient plus the light terms, not yet times its weight; the
+// background for a miss), its PathRecord node (id + 1 and the light bits,
+// highlight bits as if recorded), whether it records, and its children
+// (child[0] in the next depth's refracted slot, child[1] in its reflected
+// one, each valid where its slot's bit is set in `waiting`). Its rays were
+// counted when it was shaded.
+struct PreNode {
+  Pending child[2];
+  Hit hit;
+  int id;
+  u32 node;
+  u32 waiting;
+  bool records;
+  Vec3 color;
+};
 // A primary ray's node (depth 1, weight 1) shaded by the caller, exactly as
 // trace_hit() would have: its children (child[0] in slot kRootSlot, child[1]
 // in kRootSlot + 1, each valid where its bit 1 << slot is set in `waiting`)
 // and the root's share of the sum, v3(0) + colour * 1 (packet/shade.h).
+// Where the refracted child (slot kRootSlot) was shaded ahead, pre[0]
+// holds it (trace_children4's `shaded` lanes); where `deep` is set, pre[1]
+// holds that child's reflected child (depth 3, its slot 7), shaded too, and
+// where `exit` is 1 or 2, pre[2] its refracted child (slot 6), found or
+// shaded (only where `deep` is set).
 struct RootNode {
   Pending child[2];
+  u32 waiting;
+  Vec3 sum;
+  bool deep;
+  u8 exit; // pre[2]: the shaded child's refracted child (its slot 6): 1 found, 2 shaded
+  PreNode pre[3];
+};
+// A part of a primary ray's tree for trace.cpp's resume (trace_children4):
+// waiting rays of one depth, kids[0] in the refracted ray's slot and kids[1]
+// in the reflected's (each where its bit is set in `waiting`), traced with
+// their subtrees after the sum so far, `sum`.
+struct TreePart {
+  const Pending* kids;
   u32 waiting;
   Vec3 sum;
 };
@@ -130,8 +166,17 @@ struct RootNode {
 // traced (appending their nodes to paths[k] when paths is set, which holds
 // the root's node already) and added to root[k].sum in trace_hit's order;
 // color[k] the pixel's colour, bit for bit trace_hit's.
-RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
+// The lanes of `shaded` have their refracted child shaded ahead, in
+// root[k].pre[0] (packet/shade.h).
+RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes, u32 shaded,
                                    PathRecord* paths, Vec3 color[4]);
+// trace_tree's kFindHit step for one waiting ray with its skip (object
+// bits, and from kOnlyShift the lone solid to test first): hit.t = kHuge,
+// that solid's intersect_t() where one is named, else (or where it finds
+// nothing) nearest() over the scene's objects less the skipped ones. Returns
+// the object (-1: none) with hit's t, piece and local. nearest4()
+// (packet/nearest4.h) does it for four rays.
+int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit);
 // Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
 // may meet object i (of those in `range`) before the light, judged by its
 // bound (conservative, as bound_mask). The segment is taken from the light's

@@ -28,8 +28,15 @@ void frustum_terms(const Shape& s, Vec3 org, FrustumTerms& f) {
   f.rr[1] = rr1 * rr1;
 }
 
-FrustumLanes frustum_lanes(const Shape& s, const FrustumTerms& f, const f4 dir[3], u32 lanes,
-                           f4& tNear, i4& piece, f4& local) {
+// Frustum terms in lanes (frustum_terms4) or shared by the four rays
+// (frustum_terms): each term is read as a float or as four lanes, with the
+// same operations.
+namespace {
+
+template <class Terms>
+__attribute__((always_inline)) inline FrustumLanes frustum_kernel(const Shape& s, const Terms& f,
+                                                                  const f4 dir[3], u32 lanes,
+                                                                  f4& tNear, i4& piece, f4& local) {
   FrustumLanes out{0, lanes};
   if (s.c.z > 1) return out; // a flat side: the scalar test for every lane
   // frustum_frame()
@@ -75,7 +82,7 @@ FrustumLanes frustum_lanes(const Shape& s, const FrustumTerms& f, const f4 dir[3
   }
   // The caps, for the lanes with dy != 0.
   i4 capped = live & (dy != zero);
-  auto cap = [&](float yc, float rr2, int pieceCap) __attribute__((always_inline)) {
+  auto cap = [&](float yc, auto rr2, int pieceCap) __attribute__((always_inline)) {
     f4 tr = (yc - y0) / dy, t = tc + tr;
     f4 px = vx + ux * tr, py = vy + uy * tr, pz = vz + uz * tr;
     i4 ok = capped & (t > zero) & (t < tNear) & ~(px * px + py * py + pz * pz > rr2);
@@ -88,4 +95,39 @@ FrustumLanes frustum_lanes(const Shape& s, const FrustumTerms& f, const f4 dir[3
   if (s.caps & kCapTop) cap(s.h, f.rr[1], kPieceTop);
   out.hit = lane_bits(hit);
   return out;
+}
+
+} // namespace
+
+FrustumLanes frustum_lanes(const Shape& s, const FrustumTerms& f, const f4 dir[3], u32 lanes,
+                           f4& tNear, i4& piece, f4& local) {
+  return frustum_kernel(s, f, dir, lanes, tNear, piece, local);
+}
+
+void frustum_terms4(const Shape& s, const f4 org[3], FrustumTerms4& f) {
+  // frustum_terms() lane by lane.
+  Vec3 axis = s.b;
+  f4 wx = org[0] - s.a.x, wy = org[1] - s.a.y, wz = org[2] - s.a.z;
+  f4 yw = wx * axis.x + wy * axis.y + wz * axis.z;
+  f.vw[0] = wx - axis.x * yw;
+  f.vw[1] = wy - axis.y * yw;
+  f.vw[2] = wz - axis.z * yw;
+  f.yw = yw;
+  // max_abs(w) = rt_max(|x|, rt_max(|y|, |z|)), rt_max(a, b) = a > b ? a : b.
+  f4 ax = lane_abs(wx), ay = lane_abs(wy), az = lane_abs(wz);
+  f4 myz = ay > az ? ay : az;
+  f4 m = ax > myz ? ax : myz;
+  f4 rim = kRimRel * (m + s.c.y);
+  f4 reach = rt_max(s.r0, s.r1) + kCullRim * rim;
+  f.reach2 = reach * reach;
+  f.yLo = -rim;
+  f.yHi = s.h + rim;
+  f4 rr0 = s.r0 + rim, rr1 = s.r1 + rim;
+  f.rr[0] = rr0 * rr0;
+  f.rr[1] = rr1 * rr1;
+}
+
+FrustumLanes frustum_lanes4(const Shape& s, const FrustumTerms4& f, const f4 dir[3], u32 lanes,
+                            f4& tNear, i4& piece, f4& local) {
+  return frustum_kernel(s, f, dir, lanes, tNear, piece, local);
 }

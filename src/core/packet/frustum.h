@@ -43,3 +43,22 @@ struct FrustumLanes {
 // the kernel does not mirror are left alone and returned in `rest`.
 RT64K_HOT_ABI FrustumLanes frustum_lanes(const Shape& s, const FrustumTerms& f, const f4 dir[3],
                                          u32 lanes, f4& t, i4& piece, f4& local);
+
+// The same terms for four rays of four origins (secondary rays,
+// packet/nearest4.h): lane k holds what frustum_terms(s, (org[0][k],
+// org[1][k], org[2][k])) gives, by the same operations.
+struct FrustumTerms4 {
+  f4 vw[3];
+  f4 yw;
+  f4 reach2;
+  f4 yLo, yHi;
+  f4 rr[2];
+};
+
+void frustum_terms4(const Shape& s, const f4 org[3], FrustumTerms4& out);
+
+// frustum_lanes() for rays of four origins: lane k is hit_frustum(s,
+// Ray{origin of lane k, dir of lane k}, 0, hit), f = frustum_terms4(s,
+// org); the same lanes are handed back.
+RT64K_HOT_ABI FrustumLanes frustum_lanes4(const Shape& s, const FrustumTerms4& f, const f4 dir[3],
+                                          u32 lanes, f4& t, i4& piece, f4& local);

@@ -2,9 +2,12 @@
 // shade.h. Every expression below repeats trace_tree's (trace.cpp) for the
 // root node (depth 1, weight 1, nothing passed through glass yet), lane by
 // lane, in the same order: where trace_tree multiplies by the weight 1 or
-// adds to a sum of 0, so does this code, so that no rounding differs.
+// adds to a sum of 0, so does this code, so that no rounding differs. The
+// second level (second4(), shade_child4()) does the same for nodes of depth
+// 2 and 3 with each lane's own weight, origin and skip bits.
 #include "packet/shade.h"
 
+#include "packet/frustum.h"
 #include "packet/pow4.h"
 
 namespace {
@@ -92,6 +95,59 @@ struct Lanes3 {
   Vec3 lane(int k) const { return Vec3{v[0][k], v[1][k], v[2][k]}; }
 };
 
+// The lanes of `mine` (their shadow rays to light li, from org along L to
+// dist: each one's one candidate object j, a sphere, cylinder or cone, not
+// crossed untested): shadow_test() (trace.cpp) of that one object in lanes:
+// hit_sphere() (tMin 0, hit.t = dist) with its operations in its order, or
+// hit_frustum() by frustum_lanes4() (packet/frustum.h), then where it hits,
+// a transparent solid multiplies v3(1) by colour * transmit (that product,
+// bit for bit), code 1, an opaque one gives code 3 and no light; a miss
+// code 0. tv, shadowed and the codes in bits are set for them. Returns the
+// lanes done (a frustum's lanes that frustum_lanes4() does not mirror are
+// left to the caller's scalar test).
+__attribute__((noinline)) u32 solid_shadows4(const Scene& s, int j, u32 mine, const V4& org,
+                                             const V4& L, f4 dist, int li, V4& tv, u32& shadowed,
+                                             u32 bits[4]) {
+  const Object& o = s.objects[j];
+  const Shape& sh = o.shape;
+  f4 zero = f4_of(0.0f);
+  u32 hit, rest = 0;
+  if (sh.kind != kSphere) {
+    // A cylinder or cone: hit_frustum() in lanes (frustum_lanes4()), the
+    // lanes it does not mirror left to the caller.
+    f4 o3[3] = {org.x, org.y, org.z}, d3[3] = {L.x, L.y, L.z};
+    FrustumTerms4 terms;
+    frustum_terms4(sh, o3, terms);
+    f4 t = dist, local = zero;
+    i4 piece = i4_of(0);
+    FrustumLanes fl = frustum_lanes4(sh, terms, d3, mine, t, piece, local);
+    hit = fl.hit & mine;
+    rest = fl.rest & mine;
+  } else {
+    V4 f = org - splat(sh.a);
+    f4 b = dot(f, L);
+    V4 perp = f - L * b;
+    float r2 = sh.r0 * sh.r0;
+    f4 disc = f4_of(r2) - dot(perp, perp);
+    f4 c = dot(f, f) - f4_of(r2);
+    f4 root = lane_sqrt(disc);
+    f4 q = -(b + (b >= zero ? root : -root));
+    f4 t0 = c / q, t1 = q;
+    i4 swap = t0 > t1;
+    f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
+    f4 t = lo > zero ? lo : hi;
+    hit = lane_bits(~(disc < zero) & (q != zero) & (t > zero) & (t < dist)) & mine;
+  }
+  if (!hit) return mine & ~rest;
+  u32 code = o.mat.transmit <= 0 ? 3 : 1;
+  V4 ct = code == 3 ? V4{zero, zero, zero} : splat(o.mat.color * o.mat.transmit);
+  tv = select(lanes_of(hit), ct, tv);
+  if (code == 3) shadowed |= hit;
+  for (; hit; hit &= hit - 1)
+    bits[__builtin_ctz(hit)] |= code << (5 + 3 * li);
+  return mine & ~rest;
+}
+
 // Phong's specular term where the kSpecExp cut leaves it, r_S (V.R)^h: out
 // of line, as few lanes need it (its double lanes would make the caller
 // align its frame to 32 bytes).
@@ -124,6 +180,430 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
   D = c2 > f4_of(kCos2Min) ? D : zero;
   f4 r = F * D * G / NdotV;
   return cut ? zero : r;
+}
+
+// The waiting rays *src[k] (depth `depth`, each past glass or not as
+// pastGlass says) of the lanes `have`, which all hit object `id` (t, piece
+// and local found ahead in dst[k]->hit): each lane's node shaded as
+// trace_tree shades it (the normal, the spawn of its children, the light
+// loop with its weight's cuts), stored in *dst[k]: its colour, record node,
+// whether it records, its children. Pointers of lanes outside `have` are
+// not read.
+//
+// On a sphere the hits are found here: hit_sphere() (shapes.cpp, tMin 0,
+// as the lone-solid test calls it) in lanes, its operations in its order;
+// where a lane's ray misses, nothing is done and false returned (the tree
+// searches again). Elsewhere the caller found them; true.
+template <int depth, bool sphere>
+__attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* const src[4],
+                                            PreNode* const dst[4], u32 have, bool pastGlass, int id,
+                                            int maxDepth) {
+  const Scene& s = *ctx.scene;
+  const Object& o = s.objects[id];
+  const Material& mt = o.mat;
+  const Shape& sh = o.shape;
+  int first = __builtin_ctz(have);
+  const float *r0[4], *r1[4];
+  alignas(16) float tt[4];
+  alignas(16) i32 pc[4];
+  for (int k = 0; k < 4; ++k) {
+    int j = have >> k & 1 ? k : first;
+    const Pending& p = *src[j];
+    r0[k] = &p.ray.org.x; // org, dir.x
+    r1[k] = &p.ray.dir.y; // dir.y, dir.z, weight, skip
+    if (!sphere) {
+      tt[k] = dst[j]->hit.t;
+      pc[k] = dst[j]->hit.piece;
+    }
+  }
+  f4 a[4], b[4];
+  columns(r0, a);
+  columns(r1, b);
+  V4 O = {a[0], a[1], a[2]}, D = {a[3], b[0], b[1]};
+  f4 W = b[2], T4;
+  f4 zero = f4_of(0.0f), one = f4_of(1.0f);
+  V4 A = splat(sh.a), N;
+  if (sphere) {
+    // hit_sphere(): f = org - centre, b = f.d, perp = f - d b, disc = r^2 -
+    // perp.perp (< 0: a miss; NaN goes on, to be refused by accept()), c =
+    // f.f - r^2, q = -(b + sign(b) sqrt(disc)) (0: a miss), t0 = c / q,
+    // t1 = q ordered, t = t0 > 0 ? t0 : t1, accepted where 0 < t < kHuge.
+    V4 f = O - A;
+    f4 bb = dot(f, D);
+    V4 perp = f - D * bb;
+    float r2 = sh.r0 * sh.r0;
+    f4 disc = f4_of(r2) - dot(perp, perp);
+    f4 c = dot(f, f) - f4_of(r2);
+    f4 root = lane_sqrt(disc);
+    f4 q = -(bb + (bb >= zero ? root : -root));
+    f4 t0 = c / q, t1 = q;
+    i4 swap = t0 > t1;
+    f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
+    T4 = lo > zero ? lo : hi;
+    i4 ok = ~(disc < zero) & (q != zero) & (T4 > zero) & (T4 < f4_of(kHuge));
+    if ((lane_bits(ok) & have) != have) return false;
+  } else {
+    T4 = *(f4*)tt;
+  }
+  i4 front;
+  u32 self = 1u << id;
+  if (!sphere && sh.kind == kPlane) {
+    front = *(i4*)pc != i4_of(0); // plane_normal()
+    N = select(front, A, V4{-A.x, -A.y, -A.z});
+  } else if (!sphere && sh.kind == kTriangle) {
+    V4 out = splat(Vec3{sh.r0, sh.r1, sh.h});
+    front = dot(out, D) < zero;
+    N = select(front, out, V4{-out.x, -out.y, -out.z});
+  } else if (!sphere) {
+    // A cylinder's or cone's: frustum_outward()'s steps as shade_primary4's
+    // one-object path takes them, each lane from its own origin; a lane
+    // beyond the domain (rho^2 > 1e20, or NaN) through hit_normal().
+    V4 axis = splat(sh.b);
+    V4 q = (O - A) + D * T4;
+    V4 pPerp = q - axis * dot(q, axis);
+    f4 rho2 = dot(pPerp, pPerp);
+    u32 ok = lane_bits(rho2 <= f4_of(1e20f));
+    V4 av = pPerp - axis * (f4_of(sh.c.x) * lane_sqrt(rho2));
+    f4 len2 = dot(av, av);
+    V4 side = select(len2 > f4_of(1e-30f), av * (1.0f / lane_sqrt(len2)), axis);
+    i4 piece = *(i4*)pc;
+    V4 cap = select(piece == i4_of(kFrustumTop), axis, V4{-axis.x, -axis.y, -axis.z});
+    V4 out = select(piece == i4_of(kFrustumSide), side, cap);
+    ok |= lane_bits(piece != i4_of(kFrustumSide));
+    front = dot(out, D) < zero;
+    N = select(front, out, V4{-out.x, -out.y, -out.z});
+    for (u32 q2 = have & ~ok; q2; q2 &= q2 - 1) {
+      int k = __builtin_ctz(q2);
+      Hit hit = dst[k]->hit;
+      hit_normal(sh, src[k]->ray, hit);
+      N.x[k] = hit.normal.x;
+      N.y[k] = hit.normal.y;
+      N.z[k] = hit.normal.z;
+      front[k] = -(i32)hit.front;
+    }
+  } else {
+    // sphere_outward() (shapes.h): m = (org - centre) + t dir where |m|^2
+    // lies in [r^2 / 4, 4 r^2], the other lanes by the scalar function.
+    V4 m = (O - A) + D * T4;
+    f4 len2 = dot(m, m), r2 = f4_of(sh.r0 * sh.r0);
+    u32 ok = lane_bits((len2 >= 0.25f * r2) & (len2 <= 4.0f * r2));
+    V4 out = m * (1.0f / lane_sqrt(len2));
+    for (u32 q = have & ~ok; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      Hit hit;
+      hit.t = T4[k];
+      Vec3 w = sphere_outward(sh, src[k]->ray, hit);
+      out.x[k] = w.x;
+      out.y[k] = w.y;
+      out.z[k] = w.z;
+    }
+    front = dot(out, D) < zero;
+    N = select(front, out, V4{-out.x, -out.y, -out.z});
+  }
+  i4 live = lanes_of(have);
+  V4 p = O + D * T4;
+  V4 col = splat(s.ambient) * splat(mt.color);
+  f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
+  alignas(16) float off[4];
+  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
+  V4 lightOrg = p + N * *(f4*)off;
+  bool flat = sh.kind == kPlane || sh.kind == kTriangle;
+  u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
+  alignas(16) u32 range[4];
+  *(i4*)range =
+      front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
+  u32 inside = closed_convex(sh) ? ~lane_bits(front) & have : 0;
+  // The record's tests: recordable and records.
+  i4 recordable = depth <= kRecordDepth ? W >= f4_of(kRecordWeight) : i4_of(0);
+  u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
+
+  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
+  if (depth < maxDepth) {
+    f4 transmit = f4_of(mt.transmit);
+    bool glass = mt.transmit > 0;
+    f4 eta = glass ? (front ? f4_of(1.0f / mt.ior) : f4_of(mt.ior)) : one;
+    V4 negD = {-D.x, -D.y, -D.z};
+    f4 cosI = glass ? dot(N, negD) : one;
+    f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
+    i4 tir = glass ? sin2T > one : i4_of(0);
+    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
+    *(f4*)fR = f4_of(mt.reflect) + (tir ? transmit : zero);
+    u32 castR = lane_bits((*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
+    u32 castT = glass ? lane_bits(~tir & (W * transmit >= f4_of(kMinRayWeight)) & live) : 0;
+    V4 R = D - N * (2.0f * dot(N, D));
+    *(f4*)dR = dot(R, N);
+    PendingRows rayR, rayT;
+    if (castR) rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, W * *(f4*)fR);
+    if (castT) {
+      V4 t = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
+      f4 len2 = dot(t, t);
+      V4 T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
+      *(f4*)dT = dot(T, N);
+      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, W * transmit);
+    }
+    // The skip bits in lanes: the object where the ray leaves it for good
+    // (leaves_for_good_dot(): a flat shape always, else front ? d > 0 : d <
+    // 0), else the lone-solid shortcut's bits where the offset allows.
+    i4 onlyL = i4_of(0);
+    if (s.aloneMask & self)
+      onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
+              i4_of((i32)((u32)(id + 1) << kOnlyShift));
+    i4 flatL = i4_of(-(i32)flat);
+    alignas(16) u32 skR[4], skT[4];
+    *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
+    *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+    *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (2 * depth + 3))) |
+                    (lanes_of(castT) & i4_of(1 << (2 * depth + 2)));
+    ctx.stats.secondary +=
+        (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
+    for (u32 q = castR; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      rayR.put(k, dst[k]->child[1], skR[k], pastGlass);
+    }
+    for (u32 q = castT; q; q &= q - 1) {
+      int k = __builtin_ctz(q);
+      rayT.put(k, dst[k]->child[0], skT[k], true);
+    }
+  }
+
+  u32 bits[4] = {0, 0, 0, 0};
+  Lanes3 lo;
+  lo.set(lightOrg);
+  f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
+  f4 shininess = f4_of(mt.shininess);
+  V4 mc = splat(mt.color);
+  for (int li = 0; li < s.numLights; ++li) {
+    const Light& light = s.lights[li];
+    V4 toLight = splat(light.pos) - lightOrg;
+    alignas(16) float dist[4];
+    *(f4*)dist = lane_sqrt(dot(toLight, toLight));
+    V4 L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
+    f4 NdotL = dot(N, L);
+    u32 lit = lane_bits((NdotL > zero) & live);
+    if (!lit) continue;
+    f4 spec = zero;
+    V4 term;
+    if (s.model == kPhong) {
+      f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
+      i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+      if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
+      term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+    } else {
+      spec = specular * cook_torrance4(N, D, L, f4_of(mt.roughness), f4_of(mt.f0)) * NdotL;
+      term = mc * (diffuse * NdotL + spec) * splat(light.color);
+    }
+    // The shadow ray where the record needs it or the term can move the
+    // pixel by kShadowSkip (max_abs(lit) = max(|x|, max(|y|, |z|))).
+    f4 big = max4(lane_abs(term.x), max4(lane_abs(term.y), lane_abs(term.z)));
+    u32 cast = lit & lane_bits(recordable | (W * big >= f4_of(kShadowSkip)));
+    u32 shadowed = 0;
+    V4 tv = {one, one, one};
+    if (cast) {
+      alignas(16) u32 objects[4];
+      *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
+      u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & cast;
+      ctx.stats.shadow += 0x4332322132212110ull >> 4 * cast & 15;
+      // A lane inside the solid whose ray to a light outside its bound meets
+      // no other bound (scene 1's glass spheres at every bench frame):
+      // shadow_test() crosses the solid untested, so its transmittance is
+      // v3(1) * (colour * transmit), colour * transmit bit for bit, code 1
+      // (3 for an opaque solid: no light).
+      bool exitsLight = s.lightC[li][id] > 0;
+      if (exitsLight && inside) {
+        u32 alone = lane_bits(*(i4*)objects == i4_of((i32)self)) & cand & inside;
+        if (alone) {
+          i4 in = lanes_of(alone);
+          V4 ct = mt.transmit <= 0 ? V4{zero, zero, zero} : splat(mt.color) * f4_of(mt.transmit);
+          tv = select(in, ct, tv);
+          u32 code = mt.transmit <= 0 ? 3 : 1;
+          if (code == 3) shadowed |= alone;
+          for (u32 q = alone; q; q &= q - 1)
+            bits[__builtin_ctz(q)] |= code << (5 + 3 * li);
+          cand &= ~alone;
+        }
+      }
+      if (cand) {
+        // Lanes whose one candidate is a sphere, cylinder or cone (other
+        // than the solid a lane exits): in lanes (solid_shadows4()).
+        u32 m0 = objects[__builtin_ctz(cand)];
+        int j = __builtin_ctz(m0 | 1u << 31);
+        if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
+            s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
+          u32 mine = lane_bits(*(i4*)objects == i4_of((i32)m0)) & cand;
+          if (j == id && exitsLight) mine &= ~inside;
+          if (mine) {
+            cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(f4*)dist, li, tv, shadowed, bits);
+          }
+        }
+      }
+      if (cand) {
+        Lanes3 dirL, through;
+        dirL.set(L);
+        through.set(tv);
+        for (u32 q = cand; q; q &= q - 1) {
+          int k = __builtin_ctz(q);
+          bool exits = (inside >> k & 1) && exitsLight;
+          int code = 0;
+          Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code,
+                                   exits ? self : 0);
+          through.v[0][k] = tr.x;
+          through.v[1][k] = tr.y;
+          through.v[2][k] = tr.z;
+          shadowed |= (u32)(code == 3) << k;
+          bits[k] |= (u32)code << (5 + 3 * li);
+        }
+        tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+      }
+    }
+    i4 add = lanes_of(lit & ~shadowed);
+    col = select(add, col + term * tv, col);
+    u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
+    for (; high; high &= high - 1)
+      bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+  }
+  Lanes3 out;
+  out.set(col);
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    PreNode& pre = *dst[k];
+    pre.color = out.lane(k);
+    pre.node = (u32)(id + 1) | bits[k];
+    pre.records = records >> k & 1;
+    pre.waiting = waiting[k];
+  }
+  return true;
+}
+
+// The refracted children (depth 2) of the lanes `have`, each into the lone
+// solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
+// own first step (that solid's intersect_t()), and where every lane's finds
+// it, the nodes shaded in lanes (shade_child4()) into root[k].pre[0]; then
+// likewise their reflected children, inside the same solid, into pre[1]
+// (root[k].deep). Returns the lanes shaded (0 or `have`);
+// trace_children4() takes them up in the tree's order.
+// The lone-solid test of a cylinder or cone for the waiting rays *src[k]
+// of the lanes `have` (tMin 0, from hit.t = kHuge): hit_frustum() in lanes
+// (frustum_lanes4(), packet/frustum.h), the lanes it does not mirror through
+// intersect_t(). True, with each lane's t, piece and local in dst[k]->hit,
+// where every lane's ray hits it.
+bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const dst[4], u32 have) {
+  int first = __builtin_ctz(have);
+  const float* r0[4];
+  const float* r1[4];
+  for (int k = 0; k < 4; ++k) {
+    const Pending& p = *src[have >> k & 1 ? k : first];
+    r0[k] = &p.ray.org.x;
+    r1[k] = &p.ray.dir.y;
+  }
+  f4 a[4], b[4];
+  columns(r0, a);
+  columns(r1, b);
+  f4 org[3] = {a[0], a[1], a[2]}, dir[3] = {a[3], b[0], b[1]};
+  FrustumTerms4 terms;
+  frustum_terms4(sh, org, terms);
+  f4 t = f4_of(kHuge), local = f4_of(0.0f);
+  i4 piece = i4_of(0);
+  FrustumLanes fl = frustum_lanes4(sh, terms, dir, have, t, piece, local);
+  if ((fl.hit | fl.rest) != have) return false;
+  for (u32 q = fl.hit; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    Hit& hit = dst[k]->hit;
+    hit.t = t[k];
+    hit.piece = (u8)piece[k];
+    hit.local = local[k];
+  }
+  for (u32 q = fl.rest; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    Hit& hit = dst[k]->hit;
+    hit.t = kHuge;
+    if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return false;
+  }
+  return true;
+}
+
+__attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
+                                      int maxDepth) {
+  const Shape& sh = ctx.scene->objects[id].shape;
+  const Pending* src[4] = {nullptr, nullptr, nullptr, nullptr};
+  PreNode* dst[4] = {nullptr, nullptr, nullptr, nullptr};
+  const u32 only = (u32)(id + 1) << kOnlyShift;
+  bool sphere = sh.kind == kSphere;
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    if (root[k].child[0].skip != only) return 0;
+    src[k] = &root[k].child[0];
+    dst[k] = &root[k].pre[0];
+    root[k].deep = false;
+    root[k].exit = 0;
+  }
+  if (sphere) {
+    if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
+  } else {
+    if (!frustum_hits4(sh, src, dst, have)) return 0; // the tree searches again
+    shade_child4<2, false>(ctx, src, dst, have, true, id, maxDepth);
+  }
+  // The reflected children inside the solid (depth 3), where every lane has
+  // one that the lone-solid test finds.
+  const u32 reflected = 1u << (2 * 2 + 3);
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    PreNode& pre = root[k].pre[0];
+    if (!(pre.waiting & reflected) || pre.child[1].skip != only) return have;
+    src[k] = &pre.child[1];
+    dst[k] = &root[k].pre[1];
+  }
+  if (sphere) {
+    if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
+  } else {
+    if (!frustum_hits4(sh, src, dst, have)) return have;
+    shade_child4<3, false>(ctx, src, dst, have, true, id, maxDepth);
+  }
+  for (u32 q = have; q; q &= q - 1)
+    root[__builtin_ctz(q)].deep = true;
+  // The refracted children out of the solid (depth 3, after the reflected
+  // ones: where every lane has one): found by find_hit(); the lanes that see
+  // nothing become the tree's miss, the lanes that hit the first hitting
+  // lane's object (at least two) are shaded in lanes, the others' hits are
+  // handed to the tree.
+  const Scene& s = *ctx.scene;
+  const u32 refracted = 1u << (2 * 2 + 2);
+  for (u32 q = have; q; q &= q - 1)
+    if (!(root[__builtin_ctz(q)].pre[0].waiting & refracted)) return have;
+  alignas(16) i32 outId[4] = {-1, -1, -1, -1};
+  for (u32 q = have; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    const Pending& p = root[k].pre[0].child[0];
+    PreNode& out = root[k].pre[2];
+    outId[k] = out.id = find_hit(s, p.ray, p.skip, out.hit);
+    root[k].exit = 1;
+    src[k] = &p;
+    dst[k] = &out;
+  }
+  u32 miss = lane_bits(*(i4*)outId < i4_of(0)) & have;
+  for (u32 q = miss; q; q &= q - 1) {
+    // trace_tree's miss (depth 3, past glass): node 0, the background.
+    int k = __builtin_ctz(q);
+    PreNode& out = root[k].pre[2];
+    float w = root[k].pre[0].child[0].weight;
+    out.color = s.background;
+    out.node = 0;
+    out.records = w >= kRecordWeight || w >= kRecordWeightGlass;
+    out.waiting = 0;
+    root[k].exit = 2;
+  }
+  u32 hits = have & ~miss;
+  if (!hits) return have;
+  int out0 = outId[__builtin_ctz(hits)];
+  u32 sub = lane_bits(*(i4*)outId == i4_of(out0)) & hits;
+  if (sub & (sub - 1)) {
+    bool ok = s.objects[out0].shape.kind == kSphere
+                  ? shade_child4<3, true>(ctx, src, dst, sub, true, out0, maxDepth)
+                  : shade_child4<3, false>(ctx, src, dst, sub, true, out0, maxDepth);
+    if (ok)
+      for (u32 q = sub; q; q &= q - 1)
+        root[__builtin_ctz(q)].exit = 2;
+  }
+  return have;
 }
 
 } // namespace
@@ -284,6 +764,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
 
   RootNode root[4];
   u32 waiting[4] = {0, 0, 0, 0};
+  u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
     // Snell where the material transmits; the mirror ray everywhere.
@@ -296,7 +777,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     alignas(16) float fR[4], dR[4], dT[4];
     *(f4*)fR = reflect + (tir ? transmit : zero);
     u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
-    u32 castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
+    castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
     *(f4*)dR = dot(R, N);
     PendingRows rayR, rayT;
@@ -367,6 +848,20 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
     V4 tv = {one, one, one};
     if (cand) {
+      // Lanes whose one candidate is a sphere, cylinder or cone (other than
+      // the solid a lane exits): in lanes (solid_shadows4()).
+      u32 m0 = objects[__builtin_ctz(cand)];
+      int j = __builtin_ctz(m0 | 1u << 31);
+      if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
+          s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
+        u32 mine = lane_bits(*(i4*)objects == i4_of((i32)m0)) & cand;
+        if (s.lightC[li][j] > 0) mine &= ~(inside & lane_bits(ids == i4_of(j)));
+        if (mine) {
+          cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(f4*)dist, li, tv, shadowed, bits);
+        }
+      }
+    }
+    if (cand) {
       // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
       Lanes3 dirL, through;
       dirL.set(L);
@@ -407,5 +902,16 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     root[k].waiting = waiting[k];
     root[k].sum = sum.lane(k);
   }
-  trace_children4(ctx, root, lanes, paths, color);
+  // The second level: the refracted children into a lone solid (second4()).
+  u32 shaded = 0;
+  if (castT) {
+    // The lanes with a refracted child whose primary ray hit the first such
+    // lane's object, a lone solid (every lane of a uniform packet; two or
+    // more of a mixed one).
+    int j = id[__builtin_ctz(castT)];
+    u32 grp = uniform ? castT : lane_bits(ids == i4_of(j)) & castT;
+    if ((s.aloneMask >> j & 1) && (uniform || (grp & (grp - 1))))
+      shaded = second4(ctx, root, grp, j, maxDepth);
+  }
+  trace_children4(ctx, root, lanes, shaded, paths, color);
 }

@@ -12,9 +12,15 @@
 // are computed in lanes, a packet of mixed objects' per lane by the scalar
 // hit_normal(); the shadow rays' bound tests four lanes a bound
 // (shadow_mask4(), below), and where a lane's ray meets a bound its objects
-// through the scalar shadow_objects(). Each lane's children then go
-// to the scalar tree through trace_children4(). So colour bits, records and
-// ray counts are trace_hit's (tests/test_shade4.cpp).
+// through the scalar shadow_objects() (a lone sphere, cylinder or cone as
+// the one candidate: in lanes). Each lane's children then go to the scalar
+// tree through trace_children4(); where two or more lanes' refracted
+// children go into the lone solid their primary rays hit, those children,
+// their reflected children inside it and their refracted children out of it
+// are shaded four lanes at a time first (the second level, shade.cpp's
+// second4()), and the tree takes them up in its own order. So colour bits,
+// records and ray counts are trace_hit's (tests/test_shade4.cpp,
+// tests/test_shade4_second.cpp).
 #pragma once
 #include "packet/lanes.h"
 #include "trace.h"

@@ -47,12 +47,19 @@ bool clamped(const Shape& s, Vec3 dir) {
 }
 
 // The kernel on the lanes of `lanes` (four rays from org, lane k starting
-// at nearest distance t0[k]) against intersect_t() lane by lane.
+// at nearest distance t0[k]) against intersect_t() lane by lane. With
+// `orgs`, lane k starts at orgs[k] instead: frustum_lanes4() on the terms
+// frustum_terms4() gives (the second level's lone cylinders and cones,
+// packet/shade.cpp), f unused.
 void check4(const Shape& s, const FrustumTerms& f, Vec3 org, const Vec3 dir[4], const float t0[4],
-            const int cls[4], u32 lanes, Tally& tl) {
-  f4 d[3], t, local;
+            const int cls[4], u32 lanes, Tally& tl, const Vec3* orgs = nullptr) {
+  f4 d[3], t, local, o[3];
   i4 piece;
   for (int k = 0; k < 4; ++k) {
+    Vec3 ok = orgs ? orgs[k] : org;
+    o[0][k] = ok.x;
+    o[1][k] = ok.y;
+    o[2][k] = ok.z;
     d[0][k] = dir[k].x;
     d[1][k] = dir[k].y;
     d[2][k] = dir[k].z;
@@ -60,7 +67,14 @@ void check4(const Shape& s, const FrustumTerms& f, Vec3 org, const Vec3 dir[4], 
     piece[k] = 7;
     local[k] = -3.0f;
   }
-  FrustumLanes r = frustum_lanes(s, f, d, lanes, t, piece, local);
+  FrustumLanes r;
+  if (orgs) {
+    FrustumTerms4 f4terms;
+    frustum_terms4(s, o, f4terms);
+    r = frustum_lanes4(s, f4terms, d, lanes, t, piece, local);
+  } else {
+    r = frustum_lanes(s, f, d, lanes, t, piece, local);
+  }
   for (int k = 0; k < 4; ++k) {
     bool hit = r.hit >> k & 1, rest = r.rest >> k & 1;
     bool untouched = same_bits(t[k], t0[k]) && piece[k] == 7 && same_bits(local[k], -3.0f);
@@ -75,7 +89,7 @@ void check4(const Shape& s, const FrustumTerms& f, Vec3 org, const Vec3 dir[4], 
     ref.t = t0[k];
     ref.piece = 7;
     ref.local = -3.0f;
-    bool got = intersect_t(s, Ray{org, dir[k]}, 0.0f, ref);
+    bool got = intersect_t(s, Ray{orgs ? orgs[k] : org, dir[k]}, 0.0f, ref);
     if (got) ++tl.classHits[cls[k]];
     if (rest) {
       ++tl.handed;
@@ -240,47 +254,57 @@ Vec3 aim(const Shape& s, const Geo& g, Vec3 org, int c, std::mt19937& rng) {
   return unit_to(p, org);
 }
 
-// `packets` packets of four lanes from origins around (or inside) s.
-void check_shape(const Shape& s, int packets, std::mt19937& rng, Tally& tl, bool inside = false) {
-  Geo g = geo_of(s);
+// An origin around (or inside) s: 1.5 .. 15 sizes from the middle of the
+// axis, or on the axis inside the solid.
+Vec3 origin_for(const Geo& g, bool inside, std::mt19937& rng) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   std::normal_distribution<double> nd(0.0, 1.0);
-  for (int p = 0; p < packets; ++p) {
-    Vec3 org;
-    if (inside) { // on the axis, inside the solid
-      double o[3];
-      point(g, g.h * (0.1 + 0.8 * u01(rng)), 0, 0, o);
-      org = v3((float)o[0], (float)o[1], (float)o[2]);
-    } else { // 1.5 .. 15 sizes from the middle of the axis
-      double o[3], dist = g.size * (1.5 + 13.5 * u01(rng)), n = 0;
-      for (double& x : o) {
-        x = nd(rng);
-        n += x * x;
-      }
-      for (int i = 0; i < 3; ++i)
-        o[i] = g.a[i] + g.b[i] * 0.5 * g.h + o[i] / std::sqrt(n) * dist;
-      org = v3((float)o[0], (float)o[1], (float)o[2]);
+  double o[3];
+  if (inside) {
+    point(g, g.h * (0.1 + 0.8 * u01(rng)), 0, 0, o);
+  } else {
+    double dist = g.size * (1.5 + 13.5 * u01(rng)), n = 0;
+    for (double& x : o) {
+      x = nd(rng);
+      n += x * x;
     }
+    for (int i = 0; i < 3; ++i)
+      o[i] = g.a[i] + g.b[i] * 0.5 * g.h + o[i] / std::sqrt(n) * dist;
+  }
+  return v3((float)o[0], (float)o[1], (float)o[2]);
+}
+
+// `packets` packets of four lanes from origins around (or inside) s; with
+// `perLane`, each lane from an origin of its own (frustum_lanes4()).
+void check_shape(const Shape& s, int packets, std::mt19937& rng, Tally& tl, bool inside = false,
+                 bool perLane = false) {
+  Geo g = geo_of(s);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (int p = 0; p < packets; ++p) {
+    Vec3 org[4];
+    org[0] = origin_for(g, inside, rng);
+    for (int k = 1; k < 4; ++k)
+      org[k] = perLane ? origin_for(g, inside, rng) : org[0];
     FrustumTerms f;
-    frustum_terms(s, org, f);
+    frustum_terms(s, org[0], f);
     Vec3 dir[4];
     float t0[4];
     int cls[4];
     for (int k = 0; k < 4; ++k) {
       cls[k] = (int)(rng() % kClasses);
-      dir[k] = aim(s, g, org, cls[k], rng);
+      dir[k] = aim(s, g, org[k], cls[k], rng);
       u32 how = rng() % 8;
       t0[k] = kHuge;
       if (how == 0) t0[k] = (float)(g.size * 20 * u01(rng));
       if (how == 1) { // the scalar hit's own t, or the next float either side
         Hit h;
         h.t = kHuge;
-        if (intersect_t(s, Ray{org, dir[k]}, 0.0f, h))
+        if (intersect_t(s, Ray{org[k], dir[k]}, 0.0f, h))
           t0[k] = rt_from_bits(rt_bits(h.t) + (u32)(rng() % 3) - 1u);
       }
     }
     u32 lanes = rng() % 4 ? 15u : (u32)(1 + rng() % 15); // now and then not all four
-    check4(s, f, org, dir, t0, cls, lanes, tl);
+    check4(s, f, org[0], dir, t0, cls, lanes, tl, perLane ? org : nullptr);
   }
 }
 
@@ -310,7 +334,8 @@ TEST(Frustum4, EveryKindAndCapMatchesHitFrustumBitForBit) {
   // narrowing and widening, long thin and short wide ones, each with every
   // cap combination, upright (axis (0, 1, 0)) and tilted at random, from
   // outside and from inside: 13 kinds x 4 caps x 2 axes x 300 packets from
-  // outside + 60 from inside = 149,760 lanes at most.
+  // outside + 60 from inside = 149,760 lanes at most, and half as many
+  // again with an origin per lane.
   const Kind kinds[] = {{"cylinder", 1.0f, 1.0f, 2.0f},
                         {"thin cylinder", 0.05f, 0.05f, 5.0f},
                         {"disc cylinder", 2.0f, 2.0f, 0.3f},
@@ -337,6 +362,9 @@ TEST(Frustum4, EveryKindAndCapMatchesHitFrustumBitForBit) {
         ASSERT_TRUE(s.kind == kCylinder || s.kind == kCone) << kd.name;
         check_shape(s, 300, rng, tk);
         check_shape(s, 60, rng, tk, true);
+        // Four origins a packet (frustum_lanes4): the same kinds and caps.
+        check_shape(s, 150, rng, tk, false, true);
+        check_shape(s, 30, rng, tk, true, true);
       }
     expect_exact(tk, kd.name);
     bool flat = std::fabs((kd.r1 - kd.r0) / kd.h) > 1;

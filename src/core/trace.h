@@ -174,8 +174,8 @@ RT64K_HOT_ABI void trace_children4(TraceContext& ctx, const RootNode root[4], u3
 // bits, and from kOnlyShift the lone solid to test first): hit.t = kHuge,
 // that solid's intersect_t() where one is named, else (or where it finds
 // nothing) nearest() over the scene's objects less the skipped ones. Returns
-// the object (-1: none) with hit's t, piece and local. nearest4()
-// (packet/nearest4.h) does it for four rays.
+// the object (-1: none) with hit's t, piece and local (the second level's
+// exit rays, packet/shade.cpp).
 int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit);
 // Bit i set: a shadow ray from p = light - dist L along L (unit) to light l
 // may meet object i (of those in `range`) before the light, judged by its

@@ -44,8 +44,8 @@ struct FrustumLanes {
 RT64K_HOT_ABI FrustumLanes frustum_lanes(const Shape& s, const FrustumTerms& f, const f4 dir[3],
                                          u32 lanes, f4& t, i4& piece, f4& local);
 
-// The same terms for four rays of four origins (secondary rays,
-// packet/nearest4.h): lane k holds what frustum_terms(s, (org[0][k],
+// The same terms for four rays of four origins (the second level's rays
+// into a lone cylinder or cone, packet/shade.cpp): lane k holds what frustum_terms(s, (org[0][k],
 // org[1][k], org[2][k])) gives, by the same operations.
 struct FrustumTerms4 {
   f4 vw[3];

@@ -763,7 +763,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   V4 lightOrg = p + N * *(f4*)off;
 
   RootNode root[4];
-  u32 waiting[4] = {0, 0, 0, 0};
+  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
   u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
@@ -774,7 +774,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass & (sin2T > one);
-    alignas(16) float fR[4], dR[4], dT[4];
+    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
     *(f4*)fR = reflect + (tir ? transmit : zero);
     u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
     castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
@@ -789,6 +789,34 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       *(f4*)dT = dot(T, N);
       rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
     }
+    if (uniform) {
+      // One object in every lane: the skip bits (leaves_for_good_dot(),
+      // else the lone-solid shortcut's bits where the offset allows), the
+      // waiting bits and the ray count in lanes, as shade_child4() takes them.
+      const Shape& sh = o0.shape;
+      int j = id[first];
+      u32 self = 1u << j;
+      i4 onlyL = i4_of(0);
+      if (s.aloneMask & self)
+        onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
+                i4_of((i32)((u32)(j + 1) << kOnlyShift));
+      i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
+      alignas(16) u32 skR[4], skT[4];
+      *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (kRootSlot + 1))) |
+                      (lanes_of(castT) & i4_of(1 << kRootSlot));
+      ctx.stats.secondary +=
+          (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
+      for (u32 q = castR; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        rayR.put(k, root[k].child[1], skR[k], false);
+      }
+      for (u32 q = castT; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        rayT.put(k, root[k].child[0], skT[k], true);
+      }
+    } else
     for (u32 q = castR | castT; q; q &= q - 1) {
       int k = __builtin_ctz(q);
       const Shape& sh = obj[k]->shape;

@@ -143,8 +143,7 @@ __attribute__((noinline)) u32 solid_shadows4(const Scene& s, int j, u32 mine, co
   V4 ct = code == 3 ? V4{zero, zero, zero} : splat(o.mat.color * o.mat.transmit);
   tv = select(lanes_of(hit), ct, tv);
   if (code == 3) shadowed |= hit;
-  for (; hit; hit &= hit - 1)
-    bits[__builtin_ctz(hit)] |= code << (5 + 3 * li);
+  *(i4*)bits |= lanes_of(hit) & i4_of((i32)(code << (5 + 3 * li)));
   return mine & ~rest;
 }
 
@@ -366,7 +365,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     }
   }
 
-  u32 bits[4] = {0, 0, 0, 0};
+  alignas(16) u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
   f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
@@ -417,8 +416,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
           tv = select(in, ct, tv);
           u32 code = mt.transmit <= 0 ? 3 : 1;
           if (code == 3) shadowed |= alone;
-          for (u32 q = alone; q; q &= q - 1)
-            bits[__builtin_ctz(q)] |= code << (5 + 3 * li);
+          *(i4*)bits |= in & i4_of((i32)(code << (5 + 3 * li)));
           cand &= ~alone;
         }
       }
@@ -457,9 +455,8 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);
-    u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
-    for (; high; high &= high - 1)
-      bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+    *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
+                  i4_of((i32)(4u << (5 + 3 * li)));
   }
   Lanes3 out;
   out.set(col);
@@ -843,7 +840,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // object tests of a lane's shadow ray where a bound is met through the
   // scalar shadow_objects() (a primary ray records: every lit term casts a
   // shadow ray).
-  u32 bits[4] = {0, 0, 0, 0};
+  alignas(16) u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
   for (int li = 0; li < s.numLights; ++li) {
@@ -911,11 +908,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);
-    if (paths) {
-      u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
-      for (; high; high &= high - 1)
-        bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
-    }
+    if (paths)
+      *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
+                    i4_of((i32)(4u << (5 + 3 * li)));
   }
   Lanes3 sum;
   sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight

@@ -186,8 +186,9 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 // and local found ahead in dst[k]->hit): each lane's node shaded as
 // trace_tree shades it (the normal, the spawn of its children, the light
 // loop with its weight's cuts), stored in *dst[k]: its colour, record node,
-// whether it records, its children. Pointers of lanes outside `have` are
-// not read.
+// whether it records, its children. Every lane's pointers are read (those
+// outside `have` repeat a lane of `have`'s: fill()); only the lanes of
+// `have` are written.
 //
 // On a sphere the hits are found here: hit_sphere() (shapes.cpp, tMin 0,
 // as the lone-solid test calls it) in lanes, its operations in its order;
@@ -201,23 +202,13 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   const Object& o = s.objects[id];
   const Material& mt = o.mat;
   const Shape& sh = o.shape;
-  int first = __builtin_ctz(have);
-  const float *r0[4], *r1[4];
-  alignas(16) float tt[4];
-  alignas(16) i32 pc[4];
-  for (int k = 0; k < 4; ++k) {
-    int j = have >> k & 1 ? k : first;
-    const Pending& p = *src[j];
-    r0[k] = &p.ray.org.x; // org, dir.x
-    r1[k] = &p.ray.dir.y; // dir.y, dir.z, weight, skip
-    if (!sphere) {
-      tt[k] = dst[j]->hit.t;
-      pc[k] = dst[j]->hit.piece;
-    }
-  }
+  // Each lane's ray and weight as columns: org, dir.x; dir.y, dir.z,
+  // weight, skip.
   f4 a[4], b[4];
-  columns(r0, a);
-  columns(r1, b);
+  rows(load4(&src[0]->ray.org.x), load4(&src[1]->ray.org.x), load4(&src[2]->ray.org.x),
+       load4(&src[3]->ray.org.x), a);
+  rows(load4(&src[0]->ray.dir.y), load4(&src[1]->ray.dir.y), load4(&src[2]->ray.dir.y),
+       load4(&src[3]->ray.dir.y), b);
   V4 O = {a[0], a[1], a[2]}, D = {a[3], b[0], b[1]};
   f4 W = b[2], T4;
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
@@ -242,12 +233,13 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     i4 ok = ~(disc < zero) & (q != zero) & (T4 > zero) & (T4 < f4_of(kHuge));
     if ((lane_bits(ok) & have) != have) return false;
   } else {
-    T4 = *(f4*)tt;
+    T4 = f4{dst[0]->hit.t, dst[1]->hit.t, dst[2]->hit.t, dst[3]->hit.t};
   }
   i4 front;
   u32 self = 1u << id;
   if (!sphere && sh.kind == kPlane) {
-    front = *(i4*)pc != i4_of(0); // plane_normal()
+    i4 pc = {dst[0]->hit.piece, dst[1]->hit.piece, dst[2]->hit.piece, dst[3]->hit.piece};
+    front = pc != i4_of(0); // plane_normal()
     N = select(front, A, V4{-A.x, -A.y, -A.z});
   } else if (!sphere && sh.kind == kTriangle) {
     V4 out = splat(Vec3{sh.r0, sh.r1, sh.h});
@@ -265,7 +257,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     V4 av = pPerp - axis * (f4_of(sh.c.x) * lane_sqrt(rho2));
     f4 len2 = dot(av, av);
     V4 side = select(len2 > f4_of(1e-30f), av * (1.0f / lane_sqrt(len2)), axis);
-    i4 piece = *(i4*)pc;
+    i4 piece = {dst[0]->hit.piece, dst[1]->hit.piece, dst[2]->hit.piece, dst[3]->hit.piece};
     V4 cap = select(piece == i4_of(kFrustumTop), axis, V4{-axis.x, -axis.y, -axis.z});
     V4 out = select(piece == i4_of(kFrustumSide), side, cap);
     ok |= lane_bits(piece != i4_of(kFrustumSide));
@@ -518,6 +510,17 @@ bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const 
   return true;
 }
 
+// The lanes outside `have` take the first lane's pointers (shade_child4()
+// and frustum_hits4() read all four).
+inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
+  int first = __builtin_ctz(have);
+  for (u32 q = ~have & 15; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    src[k] = src[first];
+    dst[k] = dst[first];
+  }
+}
+
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
@@ -533,6 +536,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     root[k].deep = false;
     root[k].exit = 0;
   }
+  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
   } else {
@@ -549,6 +553,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     src[k] = &pre.child[1];
     dst[k] = &root[k].pre[1];
   }
+  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
   } else {
@@ -576,6 +581,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     src[k] = &p;
     dst[k] = &out;
   }
+  fill(have, src, dst);
   u32 miss = lane_bits(*(i4*)outId < i4_of(0)) & have;
   for (u32 q = miss; q; q &= q - 1) {
     // trace_tree's miss (depth 3, past glass): node 0, the background.

@@ -463,30 +463,17 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   return true;
 }
 
-// The refracted children (depth 2) of the lanes `have`, each into the lone
-// solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
-// own first step (that solid's intersect_t()), and where every lane's finds
-// it, the nodes shaded in lanes (shade_child4()) into root[k].pre[0]; then
-// likewise their reflected children, inside the same solid, into pre[1]
-// (root[k].deep). Returns the lanes shaded (0 or `have`);
-// trace_children4() takes them up in the tree's order.
 // The lone-solid test of a cylinder or cone for the waiting rays *src[k]
 // of the lanes `have` (tMin 0, from hit.t = kHuge): hit_frustum() in lanes
 // (frustum_lanes4(), packet/frustum.h), the lanes it does not mirror through
 // intersect_t(). True, with each lane's t, piece and local in dst[k]->hit,
-// where every lane's ray hits it.
+// where every lane's ray hits it. All four lanes' pointers are read (fill()).
 bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const dst[4], u32 have) {
-  int first = __builtin_ctz(have);
-  const float* r0[4];
-  const float* r1[4];
-  for (int k = 0; k < 4; ++k) {
-    const Pending& p = *src[have >> k & 1 ? k : first];
-    r0[k] = &p.ray.org.x;
-    r1[k] = &p.ray.dir.y;
-  }
   f4 a[4], b[4];
-  columns(r0, a);
-  columns(r1, b);
+  rows(load4(&src[0]->ray.org.x), load4(&src[1]->ray.org.x), load4(&src[2]->ray.org.x),
+       load4(&src[3]->ray.org.x), a);
+  rows(load4(&src[0]->ray.dir.y), load4(&src[1]->ray.dir.y), load4(&src[2]->ray.dir.y),
+       load4(&src[3]->ray.dir.y), b);
   f4 org[3] = {a[0], a[1], a[2]}, dir[3] = {a[3], b[0], b[1]};
   FrustumTerms4 terms;
   frustum_terms4(sh, org, terms);
@@ -521,6 +508,13 @@ inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
   }
 }
 
+// The refracted children (depth 2) of the lanes `have`, each into the lone
+// solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
+// own first step (that solid's intersect_t()), and where every lane's finds
+// it, the nodes shaded in lanes (shade_child4()) into root[k].pre[0]; then
+// likewise their reflected children, inside the same solid, into pre[1]
+// (root[k].deep). Returns the lanes shaded (0 or `have`);
+// trace_children4() takes them up in the tree's order.
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;

@@ -197,8 +197,9 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
                                      int depth, float weight, u32 skip, const TreePart* part) {
   const Scene& s = *ctx.scene;
   // (Resume: computed once a packet by trace_children4.)
-  int maxDepth = Resume ? part->maxDepth
-                        : s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
+  int maxDepth = Resume                        ? part->maxDepth
+                 : s.maxDepth < kMaxTraceDepth ? s.maxDepth
+                                               : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
   u32 waiting = 0;
   bool pastGlass = false; // the ray shaded has passed through glass
@@ -499,8 +500,8 @@ __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode 
     if (shaded >> k & 1)
       color[k] = trace_split(ctx, root[k], hit, scene) * 1.0f;
     else if (root[k].waiting) {
-      TreePart tp{root[k].child, root[k].waiting, root[k].sum, scene.all, scene.foreground,
-                  scene.maxDepth};
+      TreePart tp{root[k].child, root[k].waiting,  root[k].sum,
+                  scene.all,     scene.foreground, scene.maxDepth};
       color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &tp) * 1.0f;
     } else
       color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)

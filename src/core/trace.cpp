@@ -262,9 +262,14 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
       // A sphere's normal inline (hit_normal's own steps; most of scene 1's
       // hits): no call, around which this loop saved its values
       // (docs/tracer-speed.md, rounds ten and eleven).
+      // In the resumed copy (the native tool's only) a plane's too
+      // (plane_normal()'s two lines): scene 1's floor under the glass.
       if (obj.shape.kind == kSphere)
         face_ray(sphere_outward(obj.shape, ray, hit), ray, hit);
-      else
+      else if (Resume && obj.shape.kind == kPlane) {
+        hit.front = hit.piece != 0;
+        hit.normal = hit.front ? obj.shape.a : -obj.shape.a;
+      } else
         hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;
       Vec3 N = hit.normal;

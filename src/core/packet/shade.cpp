@@ -143,8 +143,7 @@ __attribute__((noinline)) u32 solid_shadows4(const Scene& s, int j, u32 mine, co
   V4 ct = code == 3 ? V4{zero, zero, zero} : splat(o.mat.color * o.mat.transmit);
   tv = select(lanes_of(hit), ct, tv);
   if (code == 3) shadowed |= hit;
-  for (; hit; hit &= hit - 1)
-    bits[__builtin_ctz(hit)] |= code << (5 + 3 * li);
+  *(i4*)bits |= lanes_of(hit) & i4_of((i32)(code << (5 + 3 * li)));
   return mine & ~rest;
 }
 
@@ -358,7 +357,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     }
   }
 
-  u32 bits[4] = {0, 0, 0, 0};
+  alignas(16) u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
   f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
@@ -409,8 +408,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
           tv = select(in, ct, tv);
           u32 code = mt.transmit <= 0 ? 3 : 1;
           if (code == 3) shadowed |= alone;
-          for (u32 q = alone; q; q &= q - 1)
-            bits[__builtin_ctz(q)] |= code << (5 + 3 * li);
+          *(i4*)bits |= in & i4_of((i32)(code << (5 + 3 * li)));
           cand &= ~alone;
         }
       }
@@ -449,9 +447,8 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);
-    u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
-    for (; high; high &= high - 1)
-      bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+    *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
+                  i4_of((i32)(4u << (5 + 3 * li)));
   }
   Lanes3 out;
   out.set(col);
@@ -763,7 +760,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   V4 lightOrg = p + N * *(f4*)off;
 
   RootNode root[4];
-  u32 waiting[4] = {0, 0, 0, 0};
+  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
   u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
@@ -774,7 +771,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass & (sin2T > one);
-    alignas(16) float fR[4], dR[4], dT[4];
+    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
     *(f4*)fR = reflect + (tir ? transmit : zero);
     u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
     castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
@@ -789,6 +786,34 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       *(f4*)dT = dot(T, N);
       rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
     }
+    if (uniform) {
+      // One object in every lane: the skip bits (leaves_for_good_dot(),
+      // else the lone-solid shortcut's bits where the offset allows), the
+      // waiting bits and the ray count in lanes, as shade_child4() takes them.
+      const Shape& sh = o0.shape;
+      int j = id[first];
+      u32 self = 1u << j;
+      i4 onlyL = i4_of(0);
+      if (s.aloneMask & self)
+        onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
+                i4_of((i32)((u32)(j + 1) << kOnlyShift));
+      i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
+      alignas(16) u32 skR[4], skT[4];
+      *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (kRootSlot + 1))) |
+                      (lanes_of(castT) & i4_of(1 << kRootSlot));
+      ctx.stats.secondary +=
+          (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
+      for (u32 q = castR; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        rayR.put(k, root[k].child[1], skR[k], false);
+      }
+      for (u32 q = castT; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        rayT.put(k, root[k].child[0], skT[k], true);
+      }
+    } else
     for (u32 q = castR | castT; q; q &= q - 1) {
       int k = __builtin_ctz(q);
       const Shape& sh = obj[k]->shape;
@@ -815,7 +840,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // object tests of a lane's shadow ray where a bound is met through the
   // scalar shadow_objects() (a primary ray records: every lit term casts a
   // shadow ray).
-  u32 bits[4] = {0, 0, 0, 0};
+  alignas(16) u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
   for (int li = 0; li < s.numLights; ++li) {
@@ -883,11 +908,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);
-    if (paths) {
-      u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
-      for (; high; high &= high - 1)
-        bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
-    }
+    if (paths)
+      *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
+                    i4_of((i32)(4u << (5 + 3 * li)));
   }
   Lanes3 sum;
   sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight

@@ -813,25 +813,27 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
         int k = __builtin_ctz(q);
         rayT.put(k, root[k].child[0], skT[k], true);
       }
-    } else
-    for (u32 q = castR | castT; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      const Shape& sh = obj[k]->shape;
-      u32 self = 1u << id[k];
-      u32 only = (s.aloneMask & self) && off[k] <= 0.5f * kAloneSlack * sh.size
-                     ? (u32)(id[k] + 1) << kOnlyShift
-                     : 0;
-      if (castR >> k & 1) {
-        u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-        rayR.put(k, root[k].child[1], skip, false);
-        waiting[k] |= 1u << (kRootSlot + 1);
-        ++ctx.stats.secondary;
-      }
-      if (castT >> k & 1) {
-        u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-        rayT.put(k, root[k].child[0], skip, true);
-        waiting[k] |= 1u << kRootSlot;
-        ++ctx.stats.secondary;
+    } else {
+      // Mixed packets: per lane.
+      for (u32 q = castR | castT; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        const Shape& sh = obj[k]->shape;
+        u32 self = 1u << id[k];
+        u32 only = (s.aloneMask & self) && off[k] <= 0.5f * kAloneSlack * sh.size
+                       ? (u32)(id[k] + 1) << kOnlyShift
+                       : 0;
+        if (castR >> k & 1) {
+          u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
+          rayR.put(k, root[k].child[1], skip, false);
+          waiting[k] |= 1u << (kRootSlot + 1);
+          ++ctx.stats.secondary;
+        }
+        if (castT >> k & 1) {
+          u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
+          rayT.put(k, root[k].child[0], skip, true);
+          waiting[k] |= 1u << kRootSlot;
+          ++ctx.stats.secondary;
+        }
       }
     }
   }

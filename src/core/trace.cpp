@@ -196,7 +196,10 @@ template <bool Resume>
 static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
                                      int depth, float weight, u32 skip, const TreePart* part) {
   const Scene& s = *ctx.scene;
-  int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
+  // (Resume: computed once a packet by trace_children4.)
+  int maxDepth = Resume                        ? part->maxDepth
+                 : s.maxDepth < kMaxTraceDepth ? s.maxDepth
+                                               : kMaxTraceDepth;
   Pending pending[2 * kMaxTraceDepth + 2];
   u32 waiting = 0;
   bool pastGlass = false; // the ray shaded has passed through glass
@@ -206,7 +209,8 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   const Ray* cur = &first;
   Vec3 sum = v3(0.0f);
   // What nearest() and shadow_mask() test, less the skipped objects.
-  u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
+  u32 all = Resume ? part->all : range_mask(0, s.numObjects);
+  u32 foreground = Resume ? part->foreground : range_mask(0, s.numForeground);
   if (Resume) {
     // A part of a primary ray's tree (trace_children4): the sum so far and
     // waiting rays of one depth, part->kids (their bits in part->waiting, a
@@ -258,9 +262,14 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
       // A sphere's normal inline (hit_normal's own steps; most of scene 1's
       // hits): no call, around which this loop saved its values
       // (docs/tracer-speed.md, rounds ten and eleven).
+      // In the resumed copy (the native tool's only) a plane's too
+      // (plane_normal()'s two lines): scene 1's floor under the glass.
       if (obj.shape.kind == kSphere)
         face_ray(sphere_outward(obj.shape, ray, hit), ray, hit);
-      else
+      else if (Resume && obj.shape.kind == kPlane) {
+        hit.front = hit.piece != 0;
+        hit.normal = hit.front ? obj.shape.a : -obj.shape.a;
+      } else
         hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;
       Vec3 N = hit.normal;
@@ -435,7 +444,7 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
 // second copy of the tree there (out of line: +0.05 to +0.18 % of scene 1's
 // frames).
 __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const RootNode& r,
-                                                       Hit& hit) {
+                                                       Hit& hit, const TreePart& scene) {
   Vec3 sum = r.sum;
   PathRecord* rec = ctx.record;
   const PreNode& pre = r.pre[0];
@@ -470,7 +479,7 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
       }
     }
     if (part) {
-      TreePart tp{kids, part, sum};
+      TreePart tp{kids, part, sum, scene.all, scene.foreground, scene.maxDepth};
       sum = trace_tree<true>(ctx, kids->ray, id, hit, 2, 1.0f, 0, &tp);
     }
   }
@@ -483,13 +492,21 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
 __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode root[4], u32 lanes,
                                               u32 shaded, PathRecord* paths, Vec3 color[4]) {
   Hit hit;
+  const Scene& s = *ctx.scene;
+  const TreePart scene{nullptr,
+                       0,
+                       v3(0.0f),
+                       range_mask(0, s.numObjects),
+                       range_mask(0, s.numForeground),
+                       s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth};
   for (; lanes; lanes &= lanes - 1) {
     int k = __builtin_ctz(lanes);
     if (paths) ctx.record = &paths[k];
     if (shaded >> k & 1)
-      color[k] = trace_split(ctx, root[k], hit) * 1.0f;
+      color[k] = trace_split(ctx, root[k], hit, scene) * 1.0f;
     else if (root[k].waiting) {
-      TreePart tp{root[k].child, root[k].waiting, root[k].sum};
+      TreePart tp{root[k].child, root[k].waiting,  root[k].sum,
+                  scene.all,     scene.foreground, scene.maxDepth};
       color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &tp) * 1.0f;
     } else
       color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)

@@ -155,11 +155,15 @@ struct RootNode {
 // A part of a primary ray's tree for trace.cpp's resume (trace_children4):
 // waiting rays of one depth, kids[0] in the refracted ray's slot and kids[1]
 // in the reflected's (each where its bit is set in `waiting`), traced with
-// their subtrees after the sum so far, `sum`.
+// their subtrees after the sum so far, `sum`; `all`, `foreground` and
+// `maxDepth` the scene's object masks and depth limit as trace_tree computes
+// them, once a packet (trace_children4).
 struct TreePart {
   const Pending* kids;
   u32 waiting;
   Vec3 sum;
+  u32 all, foreground;
+  int maxDepth;
 };
 // trace_hit() of four primary rays from after their root nodes: for each
 // lane k of `lanes` (bits), in order, the children's subtrees of root[k]

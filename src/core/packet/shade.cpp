@@ -143,8 +143,7 @@ __attribute__((noinline)) u32 solid_shadows4(const Scene& s, int j, u32 mine, co
   V4 ct = code == 3 ? V4{zero, zero, zero} : splat(o.mat.color * o.mat.transmit);
   tv = select(lanes_of(hit), ct, tv);
   if (code == 3) shadowed |= hit;
-  for (; hit; hit &= hit - 1)
-    bits[__builtin_ctz(hit)] |= code << (5 + 3 * li);
+  *(i4*)bits |= lanes_of(hit) & i4_of((i32)(code << (5 + 3 * li)));
   return mine & ~rest;
 }
 
@@ -187,8 +186,9 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
 // and local found ahead in dst[k]->hit): each lane's node shaded as
 // trace_tree shades it (the normal, the spawn of its children, the light
 // loop with its weight's cuts), stored in *dst[k]: its colour, record node,
-// whether it records, its children. Pointers of lanes outside `have` are
-// not read.
+// whether it records, its children. Every lane's pointers are read (those
+// outside `have` repeat a lane of `have`'s: fill()); only the lanes of
+// `have` are written.
 //
 // On a sphere the hits are found here: hit_sphere() (shapes.cpp, tMin 0,
 // as the lone-solid test calls it) in lanes, its operations in its order;
@@ -202,23 +202,13 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   const Object& o = s.objects[id];
   const Material& mt = o.mat;
   const Shape& sh = o.shape;
-  int first = __builtin_ctz(have);
-  const float *r0[4], *r1[4];
-  alignas(16) float tt[4];
-  alignas(16) i32 pc[4];
-  for (int k = 0; k < 4; ++k) {
-    int j = have >> k & 1 ? k : first;
-    const Pending& p = *src[j];
-    r0[k] = &p.ray.org.x; // org, dir.x
-    r1[k] = &p.ray.dir.y; // dir.y, dir.z, weight, skip
-    if (!sphere) {
-      tt[k] = dst[j]->hit.t;
-      pc[k] = dst[j]->hit.piece;
-    }
-  }
+  // Each lane's ray and weight as columns: org, dir.x; dir.y, dir.z,
+  // weight, skip.
   f4 a[4], b[4];
-  columns(r0, a);
-  columns(r1, b);
+  rows(load4(&src[0]->ray.org.x), load4(&src[1]->ray.org.x), load4(&src[2]->ray.org.x),
+       load4(&src[3]->ray.org.x), a);
+  rows(load4(&src[0]->ray.dir.y), load4(&src[1]->ray.dir.y), load4(&src[2]->ray.dir.y),
+       load4(&src[3]->ray.dir.y), b);
   V4 O = {a[0], a[1], a[2]}, D = {a[3], b[0], b[1]};
   f4 W = b[2], T4;
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
@@ -243,12 +233,13 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     i4 ok = ~(disc < zero) & (q != zero) & (T4 > zero) & (T4 < f4_of(kHuge));
     if ((lane_bits(ok) & have) != have) return false;
   } else {
-    T4 = *(f4*)tt;
+    T4 = f4{dst[0]->hit.t, dst[1]->hit.t, dst[2]->hit.t, dst[3]->hit.t};
   }
   i4 front;
   u32 self = 1u << id;
   if (!sphere && sh.kind == kPlane) {
-    front = *(i4*)pc != i4_of(0); // plane_normal()
+    i4 pc = {dst[0]->hit.piece, dst[1]->hit.piece, dst[2]->hit.piece, dst[3]->hit.piece};
+    front = pc != i4_of(0); // plane_normal()
     N = select(front, A, V4{-A.x, -A.y, -A.z});
   } else if (!sphere && sh.kind == kTriangle) {
     V4 out = splat(Vec3{sh.r0, sh.r1, sh.h});
@@ -266,7 +257,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     V4 av = pPerp - axis * (f4_of(sh.c.x) * lane_sqrt(rho2));
     f4 len2 = dot(av, av);
     V4 side = select(len2 > f4_of(1e-30f), av * (1.0f / lane_sqrt(len2)), axis);
-    i4 piece = *(i4*)pc;
+    i4 piece = {dst[0]->hit.piece, dst[1]->hit.piece, dst[2]->hit.piece, dst[3]->hit.piece};
     V4 cap = select(piece == i4_of(kFrustumTop), axis, V4{-axis.x, -axis.y, -axis.z});
     V4 out = select(piece == i4_of(kFrustumSide), side, cap);
     ok |= lane_bits(piece != i4_of(kFrustumSide));
@@ -366,7 +357,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     }
   }
 
-  u32 bits[4] = {0, 0, 0, 0};
+  alignas(16) u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
   f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
@@ -417,8 +408,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
           tv = select(in, ct, tv);
           u32 code = mt.transmit <= 0 ? 3 : 1;
           if (code == 3) shadowed |= alone;
-          for (u32 q = alone; q; q &= q - 1)
-            bits[__builtin_ctz(q)] |= code << (5 + 3 * li);
+          *(i4*)bits |= in & i4_of((i32)(code << (5 + 3 * li)));
           cand &= ~alone;
         }
       }
@@ -457,9 +447,8 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);
-    u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
-    for (; high; high &= high - 1)
-      bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
+    *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
+                  i4_of((i32)(4u << (5 + 3 * li)));
   }
   Lanes3 out;
   out.set(col);
@@ -474,30 +463,17 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   return true;
 }
 
-// The refracted children (depth 2) of the lanes `have`, each into the lone
-// solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
-// own first step (that solid's intersect_t()), and where every lane's finds
-// it, the nodes shaded in lanes (shade_child4()) into root[k].pre[0]; then
-// likewise their reflected children, inside the same solid, into pre[1]
-// (root[k].deep). Returns the lanes shaded (0 or `have`);
-// trace_children4() takes them up in the tree's order.
 // The lone-solid test of a cylinder or cone for the waiting rays *src[k]
 // of the lanes `have` (tMin 0, from hit.t = kHuge): hit_frustum() in lanes
 // (frustum_lanes4(), packet/frustum.h), the lanes it does not mirror through
 // intersect_t(). True, with each lane's t, piece and local in dst[k]->hit,
-// where every lane's ray hits it.
+// where every lane's ray hits it. All four lanes' pointers are read (fill()).
 bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const dst[4], u32 have) {
-  int first = __builtin_ctz(have);
-  const float* r0[4];
-  const float* r1[4];
-  for (int k = 0; k < 4; ++k) {
-    const Pending& p = *src[have >> k & 1 ? k : first];
-    r0[k] = &p.ray.org.x;
-    r1[k] = &p.ray.dir.y;
-  }
   f4 a[4], b[4];
-  columns(r0, a);
-  columns(r1, b);
+  rows(load4(&src[0]->ray.org.x), load4(&src[1]->ray.org.x), load4(&src[2]->ray.org.x),
+       load4(&src[3]->ray.org.x), a);
+  rows(load4(&src[0]->ray.dir.y), load4(&src[1]->ray.dir.y), load4(&src[2]->ray.dir.y),
+       load4(&src[3]->ray.dir.y), b);
   f4 org[3] = {a[0], a[1], a[2]}, dir[3] = {a[3], b[0], b[1]};
   FrustumTerms4 terms;
   frustum_terms4(sh, org, terms);
@@ -521,6 +497,24 @@ bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const 
   return true;
 }
 
+// The lanes outside `have` take the first lane's pointers (shade_child4()
+// and frustum_hits4() read all four).
+inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
+  int first = __builtin_ctz(have);
+  for (u32 q = ~have & 15; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    src[k] = src[first];
+    dst[k] = dst[first];
+  }
+}
+
+// The refracted children (depth 2) of the lanes `have`, each into the lone
+// solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
+// own first step (that solid's intersect_t()), and where every lane's finds
+// it, the nodes shaded in lanes (shade_child4()) into root[k].pre[0]; then
+// likewise their reflected children, inside the same solid, into pre[1]
+// (root[k].deep). Returns the lanes shaded (0 or `have`);
+// trace_children4() takes them up in the tree's order.
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
@@ -536,6 +530,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     root[k].deep = false;
     root[k].exit = 0;
   }
+  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
   } else {
@@ -552,6 +547,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     src[k] = &pre.child[1];
     dst[k] = &root[k].pre[1];
   }
+  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
   } else {
@@ -579,6 +575,7 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
     src[k] = &p;
     dst[k] = &out;
   }
+  fill(have, src, dst);
   u32 miss = lane_bits(*(i4*)outId < i4_of(0)) & have;
   for (u32 q = miss; q; q &= q - 1) {
     // trace_tree's miss (depth 3, past glass): node 0, the background.
@@ -763,7 +760,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   V4 lightOrg = p + N * *(f4*)off;
 
   RootNode root[4];
-  u32 waiting[4] = {0, 0, 0, 0};
+  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
   u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
@@ -774,7 +771,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass & (sin2T > one);
-    alignas(16) float fR[4], dR[4], dT[4];
+    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
     *(f4*)fR = reflect + (tir ? transmit : zero);
     u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
     castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
@@ -789,24 +786,54 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       *(f4*)dT = dot(T, N);
       rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
     }
-    for (u32 q = castR | castT; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      const Shape& sh = obj[k]->shape;
-      u32 self = 1u << id[k];
-      u32 only = (s.aloneMask & self) && off[k] <= 0.5f * kAloneSlack * sh.size
-                     ? (u32)(id[k] + 1) << kOnlyShift
-                     : 0;
-      if (castR >> k & 1) {
-        u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-        rayR.put(k, root[k].child[1], skip, false);
-        waiting[k] |= 1u << (kRootSlot + 1);
-        ++ctx.stats.secondary;
+    if (uniform) {
+      // One object in every lane: the skip bits (leaves_for_good_dot(),
+      // else the lone-solid shortcut's bits where the offset allows), the
+      // waiting bits and the ray count in lanes, as shade_child4() takes them.
+      const Shape& sh = o0.shape;
+      int j = id[first];
+      u32 self = 1u << j;
+      i4 onlyL = i4_of(0);
+      if (s.aloneMask & self)
+        onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
+                i4_of((i32)((u32)(j + 1) << kOnlyShift));
+      i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
+      alignas(16) u32 skR[4], skT[4];
+      *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (kRootSlot + 1))) |
+                      (lanes_of(castT) & i4_of(1 << kRootSlot));
+      ctx.stats.secondary +=
+          (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
+      for (u32 q = castR; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        rayR.put(k, root[k].child[1], skR[k], false);
       }
-      if (castT >> k & 1) {
-        u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-        rayT.put(k, root[k].child[0], skip, true);
-        waiting[k] |= 1u << kRootSlot;
-        ++ctx.stats.secondary;
+      for (u32 q = castT; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        rayT.put(k, root[k].child[0], skT[k], true);
+      }
+    } else {
+      // Mixed packets: per lane.
+      for (u32 q = castR | castT; q; q &= q - 1) {
+        int k = __builtin_ctz(q);
+        const Shape& sh = obj[k]->shape;
+        u32 self = 1u << id[k];
+        u32 only = (s.aloneMask & self) && off[k] <= 0.5f * kAloneSlack * sh.size
+                       ? (u32)(id[k] + 1) << kOnlyShift
+                       : 0;
+        if (castR >> k & 1) {
+          u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
+          rayR.put(k, root[k].child[1], skip, false);
+          waiting[k] |= 1u << (kRootSlot + 1);
+          ++ctx.stats.secondary;
+        }
+        if (castT >> k & 1) {
+          u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
+          rayT.put(k, root[k].child[0], skip, true);
+          waiting[k] |= 1u << kRootSlot;
+          ++ctx.stats.secondary;
+        }
       }
     }
   }
@@ -815,7 +842,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // object tests of a lane's shadow ray where a bound is met through the
   // scalar shadow_objects() (a primary ray records: every lit term casts a
   // shadow ray).
-  u32 bits[4] = {0, 0, 0, 0};
+  alignas(16) u32 bits[4] = {0, 0, 0, 0};
   Lanes3 lo;
   lo.set(lightOrg);
   for (int li = 0; li < s.numLights; ++li) {
@@ -883,11 +910,9 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);
-    if (paths) {
-      u32 high = lane_bits(add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)));
-      for (; high; high &= high - 1)
-        bits[__builtin_ctz(high)] |= 4u << (5 + 3 * li);
-    }
+    if (paths)
+      *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
+                    i4_of((i32)(4u << (5 + 3 * li)));
   }
   Lanes3 sum;
   sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight

@@ -454,23 +454,6 @@ RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
   return false;
 }
 
-// Oracle study rule A (adapt17): a block larger than 2 minBlock whose
-// corners' records differ, whose corners see no glass and whose records do
-// not differ in shadow codes alone, interpolated within kFaintContrast.
-constexpr int kFaintContrast = 8;
-RT64K_COLD RT64K_HOT_ABI bool faint_edge(const AdaptiveFrame& f, const Sample& a, const Sample& b,
-                                         const Sample& c, const Sample& d) {
-  bool glass = sees_glass(f, a) || sees_glass(f, b) || sees_glass(f, c) || sees_glass(f, d);
-  if (a.path.count != b.path.count || a.path.count != c.path.count || a.path.count != d.path.count)
-    return !glass;
-  u32 diff = 0;
-  for (int i = 0; i < a.path.count; ++i)
-    diff |= (a.path.node[i] ^ b.path.node[i]) | (a.path.node[i] ^ c.path.node[i]) |
-            (a.path.node[i] ^ d.path.node[i]);
-  if (glass) return (diff & 31) == 0 && (diff & 0x6db6db60u) == 0; // highlight bits only
-  return (diff & 31) != 0 || (diff & 0x6db6db60u) == 0;
-}
-
 // True when no colour channel of the four packed colours v (a block's
 // corners) spans more than limit / 255. SSE2: per byte the largest and smallest of the four colours
 // (two lane swaps each), their difference less `limit`, saturating at 0.
@@ -571,13 +554,10 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed};
       // Small blocks whose records differ: interpolated where the corners'
       // colours are close (kSmallContrast).
-      int limit = is_small(f, w, h)                                ? kSmallContrast[0]
-                  : w <= 2 * f.minBlock && h <= 2 * f.minBlock     ? kSmallContrast[1]
-                  : w <= kMaxInterpolated && h <= kMaxInterpolated ? kFaintContrast
-                                                                   : -1;
-      if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(cv, limit) ||
-          (limit == kFaintContrast && !faint_edge(f, c00, c10, c01, c11)))
-        kind = kSplit;
+      int limit = is_small(f, w, h)                            ? kSmallContrast[0]
+                  : w <= 2 * f.minBlock && h <= 2 * f.minBlock ? kSmallContrast[1]
+                                                               : -1;
+      if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(cv, limit)) kind = kSplit;
     } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
       kind = kCopied;
     } else if ((cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed},

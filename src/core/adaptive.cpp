@@ -454,10 +454,6 @@ RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
   return false;
 }
 
-// Experiment (adapt17): a block larger than kMaxInterpolated whose records
-// are equal and see no glass is interpolated within kLargeContrast.
-constexpr int kLargeContrast = 8;
-
 // True when no colour channel of the four packed colours v (a block's
 // corners) spans more than limit / 255. SSE2: per byte the largest and smallest of the four colours
 // (two lane swaps each), their difference less `limit`, saturating at 0.
@@ -570,9 +566,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
                (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
       kind = kSplit;
     }
-    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated) &&
-        (!low_contrast(cv, kLargeContrast) || sees_glass(f, c00)))
-      kind = kSplit;
+    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
     n.kind = kind;
     if (kind == kCopied) {
       fill(f, n, c00.packed);

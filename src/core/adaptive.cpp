@@ -454,19 +454,6 @@ RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
   return false;
 }
 
-// Experiment (adapt17): a block larger than kMaxInterpolated whose records
-// are equal and show a background object (the ground) whose reflection
-// sees nothing is interpolated within kLargeContrast.
-constexpr int kLargeContrast = 8;
-RT64K_HOT_ABI bool bare_ground(const AdaptiveFrame& f, const Sample& s) {
-  if (s.path.count < 1) return false;
-  int id = (int)(s.path.node[0] & 31) - 1;
-  if (id < f.scene->numForeground) return false;
-  for (int i = 1; i < s.path.count; ++i)
-    if (s.path.node[i] & 31) return false;
-  return true;
-}
-
 // True when no colour channel of the four packed colours v (a block's
 // corners) spans more than limit / 255. SSE2: per byte the largest and smallest of the four colours
 // (two lane swaps each), their difference less `limit`, saturating at 0.
@@ -579,9 +566,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
                (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
       kind = kSplit;
     }
-    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated) &&
-        (!low_contrast(cv, kLargeContrast) || !bare_ground(f, c00)))
-      kind = kSplit;
+    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
     n.kind = kind;
     if (kind == kCopied) {
       fill(f, n, c00.packed);

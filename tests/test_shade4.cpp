@@ -21,13 +21,9 @@
 #include "packet/pow4.h"
 #include "packet/shade.h"
 #include "scenes.h"
+#include "shade4_check.h"
 
 namespace {
-
-bool same_bits(float a, float b) { return rt_bits(a) == rt_bits(b); }
-bool same_bits(Vec3 a, Vec3 b) {
-  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
-}
 
 // Counts of lanes of the three functions that differ from the scalar.
 struct PowMismatch {
@@ -149,45 +145,21 @@ TEST(Shade4, PowLog2Exp2MatchTheScalarOnEdgeInputs) {
 }
 
 // trace_primary4 of up to four pixels against trace_primary() of each.
-struct Counts {
-  long lanes = 0, color = 0, path = 0, stats = 0, misses = 0, mixed = 0;
+struct Counts : LaneCounts {
+  long misses = 0, mixed = 0;
   long backs = 0; // lanes whose primary ray hits a surface from behind (inside a solid)
 };
 
 void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const float* y, int n,
                    Counts& c) {
-  Vec3 color[4];
-  PathRecord path[4];
-  RayStats stats{0, 0, 0};
-  trace_primary4(s, cam, x, y, n, color, path, &stats);
-  RayStats ref{0, 0, 0};
-  int firstId = -2;
+  LaneCheck r = c.check(s, cam, x, y, n);
   bool mixed = false;
   for (int k = 0; k < n; ++k) {
-    PathRecord rec;
-    rec.count = 0;
-    TraceContext ctx{&s, {0, 0, 0}, &rec};
-    Vec3 col = trace_primary(ctx, cam, x[k], y[k]);
-    ref.primary += 1;
-    ref.secondary += ctx.stats.secondary;
-    ref.shadow += ctx.stats.shadow;
-    c.color += !same_bits(col, color[k]);
-    c.path += !same_path(rec, path[k]);
-    Ray ray = primary_ray(cam, x[k], y[k]);
-    Hit h;
-    int id = first_hit(s, ray, h);
-    c.misses += id < 0;
-    if (id >= 0) {
-      hit_normal(s.objects[id].shape, ray, h);
-      c.backs += !h.front;
-    }
-    if (k == 0) firstId = id;
-    mixed |= id != firstId;
-    ++c.lanes;
+    c.misses += r.id[k] < 0;
+    c.backs += r.id[k] >= 0 && !r.front[k];
+    mixed |= r.id[k] != r.id[0];
   }
   c.mixed += mixed;
-  c.stats += stats.primary != ref.primary || stats.secondary != ref.secondary ||
-             stats.shadow != ref.shadow;
 }
 
 // Every lane compared had the per-lane colour bits, record and ray counts.
@@ -482,21 +454,15 @@ TEST(Shade4, LightsInAndBesideBoundsMatchPerLane) {
   for (int frame = 0; frame < 64; ++frame) {
     Scene s;
     build_timeline_scene(s, tt(rng));
-    int n = s.numLights;
-    Light old[kMaxLights];
-    for (int l = 0; l < n; ++l)
-      old[l] = s.lights[l];
-    s.numLights = 0;
-    for (int l = 0; l < n; ++l) {
+    move_lights(s, [&](int l, const Light& old) {
       int i = (int)(rng() % s.numForeground);
       Vec3 centre = {s.boundX[i], s.boundY[i], s.boundZ[i]};
       Vec3 dir = normalize(v3(sym(rng), sym(rng), sym(rng)), v3(0, 1, 0));
       int kind = (frame + l) % 3;
-      Vec3 p = kind == 0   ? centre + dir * (0.9f * frac(rng) * s.boundR[i])
-               : kind == 1 ? centre + dir * (s.boundR[i] * (1.0f + 0.05f * frac(rng)))
-                           : old[l].pos + v3(sym(rng), sym(rng), sym(rng));
-      scene_add_light(s, p, old[l].color);
-    }
+      return kind == 0   ? centre + dir * (0.9f * frac(rng) * s.boundR[i])
+             : kind == 1 ? centre + dir * (s.boundR[i] * (1.0f + 0.05f * frac(rng)))
+                         : old.pos + v3(sym(rng), sym(rng), sym(rng));
+    });
     for (int l = 0; l < s.numLights; ++l)
       for (int i = 0; i < s.numForeground; ++i)
         inBound += s.lightC[l][i] <= 0;

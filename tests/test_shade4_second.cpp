@@ -21,16 +21,11 @@
 
 #include "packet/packet.h"
 #include "scenes.h"
+#include "shade4_check.h"
 
 namespace {
 
-bool same_bits(float a, float b) { return rt_bits(a) == rt_bits(b); }
-bool same_bits(Vec3 a, Vec3 b) {
-  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
-}
-
-struct Counts {
-  long lanes = 0, color = 0, path = 0, stats = 0;
+struct Counts : LaneCounts {
   long second = 0; // lanes of uniform packets into a lone transmitting solid, hit in front
   long mixed = 0;  // packets whose lanes see different objects (or nothing)
   // Lanes of `second` packets by the refracted child's weight (the solid's
@@ -42,33 +37,12 @@ struct Counts {
 
 void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const float* y, int n,
                    Counts& c) {
-  Vec3 color[4];
-  PathRecord path[4];
-  RayStats stats{0, 0, 0};
-  trace_primary4(s, cam, x, y, n, color, path, &stats);
-  RayStats ref{0, 0, 0};
-  int firstId = -2;
+  LaneCheck r = c.check(s, cam, x, y, n);
+  int firstId = r.id[0];
   bool uniform = true, front = true;
   for (int k = 0; k < n; ++k) {
-    PathRecord rec;
-    rec.count = 0;
-    TraceContext ctx{&s, {0, 0, 0}, &rec};
-    Vec3 col = trace_primary(ctx, cam, x[k], y[k]);
-    ref.primary += 1;
-    ref.secondary += ctx.stats.secondary;
-    ref.shadow += ctx.stats.shadow;
-    c.color += !same_bits(col, color[k]);
-    c.path += !same_path(rec, path[k]);
-    Ray ray = primary_ray(cam, x[k], y[k]);
-    Hit h;
-    int id = first_hit(s, ray, h);
-    if (id >= 0) {
-      hit_normal(s.objects[id].shape, ray, h);
-      front &= h.front;
-    }
-    if (k == 0) firstId = id;
-    uniform &= id == firstId;
-    ++c.lanes;
+    uniform &= r.id[k] == firstId;
+    front &= r.front[k];
   }
   c.mixed += !uniform;
   if (uniform && front && firstId >= 0 && (s.aloneMask >> firstId & 1)) {
@@ -83,8 +57,6 @@ void compare_lanes(const Scene& s, const CameraRays& cam, const float* x, const 
       c.deep += m.transmit * m.reflect >= kMinRayWeight ? n : 0;
     }
   }
-  c.stats += stats.primary != ref.primary || stats.secondary != ref.secondary ||
-             stats.shadow != ref.shadow;
 }
 
 TEST(Shade4Second, LoneSolidPacketsMatchPerLaneAcrossTheWeightCuts) {
@@ -118,19 +90,13 @@ TEST(Shade4Second, LoneSolidPacketsMatchPerLaneAcrossTheWeightCuts) {
           // bounds, on the far side from the solid): shadow rays from the
           // solid's inside and surface whose one candidate is another
           // object, which the shading points test in lanes.
-          int n = s.numLights;
-          Light old[kMaxLights];
-          for (int l = 0; l < n; ++l)
-            old[l] = s.lights[l];
-          s.numLights = 0;
-          for (int l = 0; l < n; ++l) {
+          move_lights(s, [&](int, const Light&) {
             int j = (int)(rng() % s.numForeground);
             Vec3 cj = {s.boundX[j], s.boundY[j], s.boundZ[j]};
             Vec3 away =
                 normalize(cj - centre + v3(sym(rng), sym(rng), sym(rng)) * 0.3f, v3(0, 1, 0));
-            scene_add_light(s, cj + away * (s.boundR[j] * (1.05f + 2.0f * frac(rng))),
-                            old[l].color);
-          }
+            return cj + away * (s.boundR[j] * (1.05f + 2.0f * frac(rng)));
+          });
           ++moved;
         }
         Vec3 d = normalize(v3(sym(rng), 0.6f * sym(rng) + 0.2f, sym(rng)), v3(0, 0, 1));

@@ -95,6 +95,30 @@ struct Lanes3 {
   Vec3 lane(int k) const { return Vec3{v[0][k], v[1][k], v[2][k]}; }
 };
 
+// hit_sphere() (shapes.cpp) of sphere sh, tMin 0, in lanes, its operations
+// in its order: f = org - centre, b = f.d, perp = f - d b, disc = r^2 -
+// perp.perp (< 0: a miss; NaN goes on, for the caller's upper bound to
+// refuse), c = f.f - r^2, q = -(b + sign(b) sqrt(disc)) (0: a miss), t0 =
+// c / q and t1 = q ordered, t = t0 where > 0, else t1. Returns the lanes
+// that pass all but the caller's upper bound on t.
+__attribute__((always_inline)) inline i4 sphere_t4(const Shape& sh, const V4& org, const V4& dir,
+                                                   f4& t) {
+  f4 zero = f4_of(0.0f);
+  V4 f = org - splat(sh.a);
+  f4 b = dot(f, dir);
+  V4 perp = f - dir * b;
+  float r2 = sh.r0 * sh.r0;
+  f4 disc = f4_of(r2) - dot(perp, perp);
+  f4 c = dot(f, f) - f4_of(r2);
+  f4 root = lane_sqrt(disc);
+  f4 q = -(b + (b >= zero ? root : -root));
+  f4 t0 = c / q, t1 = q;
+  i4 swap = t0 > t1;
+  f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
+  t = lo > zero ? lo : hi;
+  return ~(disc < zero) & (q != zero) & (t > zero);
+}
+
 // The lanes of `mine` (their shadow rays to light li, from org along L to
 // dist: each one's one candidate object j, a sphere, cylinder or cone, not
 // crossed untested): shadow_test() (trace.cpp) of that one object in lanes:
@@ -124,19 +148,9 @@ __attribute__((noinline)) u32 solid_shadows4(const Scene& s, int j, u32 mine, co
     hit = fl.hit & mine;
     rest = fl.rest & mine;
   } else {
-    V4 f = org - splat(sh.a);
-    f4 b = dot(f, L);
-    V4 perp = f - L * b;
-    float r2 = sh.r0 * sh.r0;
-    f4 disc = f4_of(r2) - dot(perp, perp);
-    f4 c = dot(f, f) - f4_of(r2);
-    f4 root = lane_sqrt(disc);
-    f4 q = -(b + (b >= zero ? root : -root));
-    f4 t0 = c / q, t1 = q;
-    i4 swap = t0 > t1;
-    f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
-    f4 t = lo > zero ? lo : hi;
-    hit = lane_bits(~(disc < zero) & (q != zero) & (t > zero) & (t < dist)) & mine;
+    f4 t;
+    i4 ok = sphere_t4(sh, org, L, t);
+    hit = lane_bits(ok & (t < dist)) & mine;
   }
   if (!hit) return mine & ~rest;
   u32 code = o.mat.transmit <= 0 ? 3 : 1;
@@ -181,6 +195,83 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
   return cut ? zero : r;
 }
 
+// The lanes of `cand` whose shadow ray's one candidate (objects[k], the
+// first such lane's) is a sphere, cylinder or cone, less the lanes
+// exiting(j) names (inside that solid j, towards a light outside its bound:
+// the caller's own test), by solid_shadows4() in lanes. Returns the lanes
+// of `cand` left to the scalar test.
+template <class Exiting>
+__attribute__((always_inline)) inline u32
+one_solid_shadows4(const Scene& s, int li, u32 cand, const u32* objects, Exiting exiting,
+                   const V4& lightOrg, const V4& L, const float* dist, V4& tv, u32& shadowed,
+                   u32* bits) {
+  u32 m0 = objects[__builtin_ctz(cand)];
+  int j = __builtin_ctz(m0 | 1u << 31);
+  if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
+      s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
+    u32 mine = lane_bits(*(const i4*)objects == i4_of((i32)m0)) & cand & ~exiting(j);
+    if (mine)
+      cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(const f4*)dist, li, tv, shadowed, bits);
+  }
+  return cand;
+}
+
+// The shadow rays of the lanes `cand` whose bound tests left candidates
+// (objects[k]), one lane at a time through the scalar shadow_objects(): lane
+// k's ray from lightOrg's lane k along L over dist[k], exits(k) the solid it
+// leaves (0: none). Their transmittance goes into tv, their codes into bits
+// (code 3, no light: into shadowed).
+template <class Exits>
+__attribute__((always_inline)) inline void
+shadow_objects4(const Scene& s, int li, u32 cand, const Lanes3& lo, const V4& L, const float* dist,
+                const u32* objects, Exits exits, V4& tv, u32& shadowed, u32* bits) {
+  Lanes3 dirL, through;
+  dirL.set(L);
+  through.set(tv);
+  for (u32 q = cand; q; q &= q - 1) {
+    int k = __builtin_ctz(q);
+    int code = 0;
+    Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code, exits(k));
+    through.v[0][k] = tr.x;
+    through.v[1][k] = tr.y;
+    through.v[2][k] = tr.z;
+    shadowed |= (u32)(code == 3) << k;
+    bits[k] |= (u32)code << (5 + 3 * li);
+  }
+  tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+}
+
+// One light's term unshadowed in four lanes: trace_tree's light loop up to
+// its shadow ray, for the primary shading point and the second level alike.
+// Returns the lanes of `live` that face the light (N.L > 0); dist and L are
+// the way to the light from lightOrg, and only where some lane faces it,
+// spec the specular factor and term the light's colour term (trace_tree's
+// `lit`), Phong or Cook-Torrance.
+__attribute__((always_inline)) inline u32
+light_term4(const Scene& s, const Light& light, const V4& lightOrg, const V4& N, const V4& D,
+            i4 live, const V4& mc, f4 diffuse, f4 specular, f4 shininess, f4 roughness, f4 f0,
+            float dist[4], V4& L, f4& spec, V4& term) {
+  f4 zero = f4_of(0.0f);
+  V4 toLight = splat(light.pos) - lightOrg;
+  *(f4*)dist = lane_sqrt(dot(toLight, toLight));
+  L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
+  f4 NdotL = dot(N, L);
+  u32 lit = lane_bits((NdotL > zero) & live);
+  if (!lit) return 0;
+  spec = zero;
+  if (s.model == kPhong) {
+    // V.R = -(I.R), R = N (2 N.L) - L.
+    f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
+    i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
+    if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
+    term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
+  } else {
+    spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
+    term = mc * (diffuse * NdotL + spec) * splat(light.color);
+  }
+  return lit;
+}
+
 // The waiting rays *src[k] (depth `depth`, each past glass or not as
 // pastGlass says) of the lanes `have`, which all hit object `id` (t, piece
 // and local found ahead in dst[k]->hit): each lane's node shaded as
@@ -214,23 +305,8 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 A = splat(sh.a), N;
   if (sphere) {
-    // hit_sphere(): f = org - centre, b = f.d, perp = f - d b, disc = r^2 -
-    // perp.perp (< 0: a miss; NaN goes on, to be refused by accept()), c =
-    // f.f - r^2, q = -(b + sign(b) sqrt(disc)) (0: a miss), t0 = c / q,
-    // t1 = q ordered, t = t0 > 0 ? t0 : t1, accepted where 0 < t < kHuge.
-    V4 f = O - A;
-    f4 bb = dot(f, D);
-    V4 perp = f - D * bb;
-    float r2 = sh.r0 * sh.r0;
-    f4 disc = f4_of(r2) - dot(perp, perp);
-    f4 c = dot(f, f) - f4_of(r2);
-    f4 root = lane_sqrt(disc);
-    f4 q = -(bb + (bb >= zero ? root : -root));
-    f4 t0 = c / q, t1 = q;
-    i4 swap = t0 > t1;
-    f4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
-    T4 = lo > zero ? lo : hi;
-    i4 ok = ~(disc < zero) & (q != zero) & (T4 > zero) & (T4 < f4_of(kHuge));
+    // hit_sphere(), accepted where 0 < t < kHuge.
+    i4 ok = sphere_t4(sh, O, D, T4) & (T4 < f4_of(kHuge));
     if ((lane_bits(ok) & have) != have) return false;
   } else {
     T4 = f4{dst[0]->hit.t, dst[1]->hit.t, dst[2]->hit.t, dst[3]->hit.t};
@@ -365,24 +441,12 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   V4 mc = splat(mt.color);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
-    V4 toLight = splat(light.pos) - lightOrg;
     alignas(16) float dist[4];
-    *(f4*)dist = lane_sqrt(dot(toLight, toLight));
-    V4 L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
-    f4 NdotL = dot(N, L);
-    u32 lit = lane_bits((NdotL > zero) & live);
+    V4 L, term;
+    f4 spec;
+    u32 lit = light_term4(s, light, lightOrg, N, D, live, mc, diffuse, specular, shininess,
+                          f4_of(mt.roughness), f4_of(mt.f0), dist, L, spec, term);
     if (!lit) continue;
-    f4 spec = zero;
-    V4 term;
-    if (s.model == kPhong) {
-      f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
-      i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
-      if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
-      term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
-    } else {
-      spec = specular * cook_torrance4(N, D, L, f4_of(mt.roughness), f4_of(mt.f0)) * NdotL;
-      term = mc * (diffuse * NdotL + spec) * splat(light.color);
-    }
     // The shadow ray where the record needs it or the term can move the
     // pixel by kShadowSkip (max_abs(lit) = max(|x|, max(|y|, |z|))).
     f4 big = max4(lane_abs(term.x), max4(lane_abs(term.y), lane_abs(term.z)));
@@ -413,36 +477,13 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
         }
       }
       if (cand) {
-        // Lanes whose one candidate is a sphere, cylinder or cone (other
-        // than the solid a lane exits): in lanes (solid_shadows4()).
-        u32 m0 = objects[__builtin_ctz(cand)];
-        int j = __builtin_ctz(m0 | 1u << 31);
-        if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
-            s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
-          u32 mine = lane_bits(*(i4*)objects == i4_of((i32)m0)) & cand;
-          if (j == id && exitsLight) mine &= ~inside;
-          if (mine) {
-            cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(f4*)dist, li, tv, shadowed, bits);
-          }
-        }
+        auto exiting = [&](int j) { return j == id && exitsLight ? inside : 0u; };
+        cand = one_solid_shadows4(s, li, cand, objects, exiting, lightOrg, L, dist, tv, shadowed,
+                                  bits);
       }
       if (cand) {
-        Lanes3 dirL, through;
-        dirL.set(L);
-        through.set(tv);
-        for (u32 q = cand; q; q &= q - 1) {
-          int k = __builtin_ctz(q);
-          bool exits = (inside >> k & 1) && exitsLight;
-          int code = 0;
-          Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code,
-                                   exits ? self : 0);
-          through.v[0][k] = tr.x;
-          through.v[1][k] = tr.y;
-          through.v[2][k] = tr.z;
-          shadowed |= (u32)(code == 3) << k;
-          bits[k] |= (u32)code << (5 + 3 * li);
-        }
-        tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+        auto exits = [&](int k) { return (inside >> k & 1) && exitsLight ? self : 0u; };
+        shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
       }
     }
     i4 add = lanes_of(lit & ~shadowed);
@@ -847,26 +888,13 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   lo.set(lightOrg);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
-    V4 toLight = splat(light.pos) - lightOrg;
-    alignas(16) float dist[4];
-    *(f4*)dist = lane_sqrt(dot(toLight, toLight));
-    V4 L = toLight * (1.0f / max4(*(f4*)dist, f4_of(1e-20f)));
-    f4 NdotL = dot(N, L);
-    u32 lit = lane_bits((NdotL > zero) & live);
-    if (!lit) continue;
     // The light's term unshadowed (trace_tree's `lit`).
-    f4 spec = zero;
-    V4 term;
-    if (s.model == kPhong) {
-      // V.R = -(I.R), R = N (2 N.L) - L.
-      f4 VdotR = max4(-dot(D, N * (2.0f * NdotL) - L), zero);
-      i4 cut = shininess * (1.0f - VdotR) > f4_of(kSpecExp);
-      if (lit & ~lane_bits(cut)) spec = phong_spec(VdotR, shininess, specular, cut);
-      term = (mc * (diffuse * NdotL) + V4{spec, spec, spec}) * splat(light.color);
-    } else {
-      spec = specular * cook_torrance4(N, D, L, roughness, f0) * NdotL;
-      term = mc * (diffuse * NdotL + spec) * splat(light.color);
-    }
+    alignas(16) float dist[4];
+    V4 L, term;
+    f4 spec;
+    u32 lit = light_term4(s, light, lightOrg, N, D, live, mc, diffuse, specular, shininess,
+                          roughness, f0, dist, L, spec, term);
+    if (!lit) continue;
     // Each lane's shadow_mask() (trace.h), four lanes a bound.
     alignas(16) u32 objects[4];
     *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
@@ -875,38 +903,18 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
     V4 tv = {one, one, one};
     if (cand) {
-      // Lanes whose one candidate is a sphere, cylinder or cone (other than
-      // the solid a lane exits): in lanes (solid_shadows4()).
-      u32 m0 = objects[__builtin_ctz(cand)];
-      int j = __builtin_ctz(m0 | 1u << 31);
-      if (!(m0 & (m0 - 1)) && s.objects[j].shape.kind != kPlane &&
-          s.objects[j].shape.kind != kTriangle && s.objects[j].shape.kind != kEmpty) {
-        u32 mine = lane_bits(*(i4*)objects == i4_of((i32)m0)) & cand;
-        if (s.lightC[li][j] > 0) mine &= ~(inside & lane_bits(ids == i4_of(j)));
-        if (mine) {
-          cand &= ~solid_shadows4(s, j, mine, lightOrg, L, *(f4*)dist, li, tv, shadowed, bits);
-        }
-      }
+      auto exiting = [&](int j) {
+        return s.lightC[li][j] > 0 ? inside & lane_bits(ids == i4_of(j)) : 0u;
+      };
+      cand =
+          one_solid_shadows4(s, li, cand, objects, exiting, lightOrg, L, dist, tv, shadowed, bits);
     }
     if (cand) {
       // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
-      Lanes3 dirL, through;
-      dirL.set(L);
-      through.set(tv);
-      for (u32 q = cand; q; q &= q - 1) {
-        int k = __builtin_ctz(q);
-        u32 self = 1u << id[k];
-        bool exits = (inside >> k & 1) && s.lightC[li][id[k]] > 0;
-        int code = 0;
-        Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code,
-                                 exits ? self : 0);
-        through.v[0][k] = tr.x;
-        through.v[1][k] = tr.y;
-        through.v[2][k] = tr.z;
-        shadowed |= (u32)(code == 3) << k;
-        bits[k] |= (u32)code << (5 + 3 * li);
-      }
-      tv = V4{*(f4*)through.v[0], *(f4*)through.v[1], *(f4*)through.v[2]};
+      auto exits = [&](int k) {
+        return (inside >> k & 1) && s.lightC[li][id[k]] > 0 ? 1u << id[k] : 0u;
+      };
+      shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
     }
     i4 add = lanes_of(lit & ~shadowed);
     col = select(add, col + term * tv, col);

@@ -83,11 +83,6 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   return accept(t, tMin, front ? 1 : 0, 0.0f, hit);
 }
 
-void plane_normal(const Shape& s, Hit& hit) {
-  hit.front = hit.piece != 0;
-  hit.normal = hit.front ? s.a : -s.a;
-}
-
 // FRUSTUM (finite cylinder or cone). In the frame of the axis, with
 // v = perpendicular part of the ray point at t = tc, u = perpendicular part
 // of dir, y(t) = y0 + (t - tc) dy the axial coordinate and

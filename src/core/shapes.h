@@ -182,6 +182,14 @@ RT64K_HOT_ABI bool intersect(const Shape& s, const Ray& ray, float tMin, Hit& hi
 RT64K_HOT_ABI bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit);
 RT64K_HOT_ABI void hit_normal(const Shape& s, const Ray& ray, Hit& hit);
 
+// A plane's normal at a hit of intersect_t(): the side the ray came from
+// is its piece (1: against the normal). Inline: the resumed tree of the
+// packet tracer shades the floor's hits with it (trace.cpp).
+__attribute__((always_inline)) inline void plane_normal(const Shape& s, Hit& hit) {
+  hit.front = hit.piece != 0;
+  hit.normal = hit.front ? s.a : -s.a;
+}
+
 // Writes the outward normal turned to face the ray, and hit.front.
 __attribute__((always_inline)) inline void face_ray(Vec3 outward, const Ray& ray, Hit& hit) {
   bool front = dot(outward, ray.dir) < 0;

@@ -186,8 +186,8 @@ constexpr int kFindHit = -2;
 // weight 1) was shaded elsewhere (the packet tracer, packet/shade.h), maybe
 // some of its children too (the second level), and `part` holds waiting
 // rays of one depth and the sum so far; the result is the sum after their
-// subtrees (not divided by the root's weight, 1). `part` takes the place
-// of main's `root` pointer, so that trace_tree<false>, called with null,
+// subtrees (not divided by the root's weight, 1). One pointer argument,
+// as before the second level, so that trace_tree<false>, called with null,
 // compiles to the same bytes in intro.exe. A template
 // argument, so that trace() and trace_hit() keep the loop without the
 // resume (intro.exe, which links no packet code, holds that copy only;
@@ -262,14 +262,13 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
       // A sphere's normal inline (hit_normal's own steps; most of scene 1's
       // hits): no call, around which this loop saved its values
       // (docs/tracer-speed.md, rounds ten and eleven).
-      // In the resumed copy (the native tool's only) a plane's too
-      // (plane_normal()'s two lines): scene 1's floor under the glass.
+      // In the resumed copy (the native tool's only) a plane's too:
+      // scene 1's floor under the glass.
       if (obj.shape.kind == kSphere)
         face_ray(sphere_outward(obj.shape, ray, hit), ray, hit);
-      else if (Resume && obj.shape.kind == kPlane) {
-        hit.front = hit.piece != 0;
-        hit.normal = hit.front ? obj.shape.a : -obj.shape.a;
-      } else
+      else if (Resume && obj.shape.kind == kPlane)
+        plane_normal(obj.shape, hit);
+      else
         hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;
       Vec3 N = hit.normal;
@@ -447,6 +446,12 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
                                                        Hit& hit, const TreePart& scene) {
   Vec3 sum = r.sum;
   PathRecord* rec = ctx.record;
+  // A shaded node where the tree reaches it: its record node, then
+  // sum += color * weight, as trace_tree's loop adds them.
+  auto take = [&](const PreNode& n, float weight) {
+    if (rec && n.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = n.node;
+    sum += n.color * weight;
+  };
   const PreNode& pre = r.pre[0];
   for (int step = 0; step < 3; ++step) {
     const Pending* kids;
@@ -456,12 +461,10 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
       kids = r.child;
       part = r.waiting & 1u << (kRootSlot + 1);
     } else if (step == 1) {
-      if (rec && pre.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = pre.node;
-      sum += pre.color * r.child[0].weight;
+      take(pre, r.child[0].weight);
       if (!r.deep) continue;
       const PreNode& deep = r.pre[1];
-      if (rec && deep.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = deep.node;
-      sum += deep.color * pre.child[1].weight;
+      take(deep, pre.child[1].weight);
       kids = deep.child;
       part = deep.waiting;
     } else {
@@ -469,8 +472,7 @@ __attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const 
       part = r.deep ? pre.waiting & ~(1u << (2 * 2 + 3)) : pre.waiting;
       const PreNode& out = r.pre[2];
       if (r.exit == 2) {
-        if (rec && out.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = out.node;
-        sum += out.color * pre.child[0].weight;
+        take(out, pre.child[0].weight);
         kids = out.child;
         part = out.waiting;
       } else if (r.exit == 1) {

@@ -100,10 +100,11 @@ inline double plane_cos(const Shape& s, const Ray& ray) {
 // the front), decided by the same cos as t: float's cos alone has the wrong
 // sign for |cos| below ~6e-8.
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  float c = dot(s.a, ray.dir), t;
+  f4 a = shape_a(s);
+  float c = dot3(a, dir_lanes(ray)), t;
   bool front;
   if (abs_bits(c) >= kPlaneCosFloat) {
-    t = dot(s.a, s.b - ray.org) / c;
+    t = dot3(a, shape_b(s) - org_lanes(ray)) / c;
     front = c < 0;
   } else {
     double cd = plane_cos(s, ray);

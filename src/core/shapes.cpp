@@ -40,7 +40,9 @@ __attribute__((always_inline)) inline f4 dir_lanes(const Ray& ray) {
 }
 __attribute__((always_inline)) inline float dot3(f4 a, f4 b) {
   f4 p = a * b;
-  return p[0] + p[1] + p[2];
+  // y and z brought to lane 0 by pshufd (a copy and a shuffle in one).
+  f4 y = (f4)__builtin_ia32_pshufd((i4)p, 0x55), z = (f4)__builtin_ia32_pshufd((i4)p, 0xaa);
+  return p[0] + y[0] + z[0];
 }
 
 // Accepts t when it is the new nearest: records t and which piece it is on.
@@ -309,10 +311,12 @@ Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
 // both triangles, so the ground quad's diagonal has no cracks. Edge functions
 // that come out exactly 0 are recomputed in double, as the paper does.
 bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  Vec3 ao = ray.org - s.a;
-  float side = dot(s.n, ao), away = dot(s.n, ray.dir);
+  static_assert(__builtin_offsetof(Shape, n) + 16 <= sizeof(Shape), "n is followed by more");
+  f4 n = lanes_at((const char*)&s + __builtin_offsetof(Shape, n));
+  f4 ao = org_lanes(ray) - shape_a(s);
+  float side = dot3(n, ao), away = dot3(n, dir_lanes(ray));
   if (tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
-      abs_bits(side) > s.sideMargin * max_abs_bits(ao))
+      abs_bits(side) > s.sideMargin * max_abs_bits(Vec3{ao[0], ao[1], ao[2]}))
     return false; // starts off the plane and moves away from it (kSideRel)
   // Components indexed by kx, ky, kz: loads from the vectors themselves (their
   // bytes, at 4 i), not branches; each difference is the one s.a - ray.org

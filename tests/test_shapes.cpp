@@ -1414,6 +1414,107 @@ TEST(Triangle, EdgesAndVerticesAreInclusiveHeadOn) {
   EXPECT_FALSE(cast(s, v3(-1e-7f, 0.5f, 3), v3(0, 0, -1)).hit);
 }
 
+// hit_triangle() as it was before round thirteen, for tMin = 0 and no hit
+// yet: edge functions of exactly 0 recomputed in double before the test of
+// their signs (shapes.cpp now tests the signs first and recomputes only
+// where they do not already say "beside"). The same float operations, so
+// the same bits.
+bool triangle_before13(const Shape& s, Vec3 org, Vec3 dir, float& t, bool& zero) {
+  zero = false;
+  Vec3 ao = org - s.a;
+  float side = dot(s.n, ao), away = dot(s.n, dir);
+  if ((side > 0 ? away > 0 : away < 0) && std::fabs(side) > s.sideMargin * max_abs(ao))
+    return false;
+  float d[3] = {dir.x, dir.y, dir.z}, o[3] = {org.x, org.y, org.z};
+  float a[3] = {s.a.x, s.a.y, s.a.z}, b[3] = {s.b.x, s.b.y, s.b.z}, c[3] = {s.c.x, s.c.y, s.c.z};
+  float ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+  int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+  if (d[kz] < 0) std::swap(kx, ky);
+  float Sx = d[kx] / d[kz], Sy = d[ky] / d[kz], Sz = 1.0f / d[kz];
+  float Az = a[kz] - o[kz], Bz = b[kz] - o[kz], Cz = c[kz] - o[kz];
+  float Ax = (a[kx] - o[kx]) - Sx * Az, Ay = (a[ky] - o[ky]) - Sy * Az;
+  float Bx = (b[kx] - o[kx]) - Sx * Bz, By = (b[ky] - o[ky]) - Sy * Bz;
+  float Cx = (c[kx] - o[kx]) - Sx * Cz, Cy = (c[ky] - o[ky]) - Sy * Cz;
+  float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
+  if (U == 0 || V == 0 || W == 0) {
+    zero = true;
+    U = (float)((double)Cx * By - (double)Cy * Bx);
+    V = (float)((double)Ax * Cy - (double)Ay * Cx);
+    W = (float)((double)Bx * Ay - (double)By * Ax);
+  }
+  if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
+  float det = U + V + W;
+  if (det == 0) return false;
+  t = (U * Sz * Az + V * Sz * Bz + W * Sz * Cz) / det;
+  return t > 0 && t < kHuge;
+}
+
+TEST(Triangle, ZeroEdgeFunctionsGiveTheAnswerOfTheRecomputeFirst) {
+  // Rays whose float edge functions come out exactly 0 (through vertices,
+  // along edges and their extensions beyond the vertices, on dyadic
+  // triangles and grid points, axis-aligned and 45-degree directions) and
+  // random rays at edges: hit or miss and t, bit for bit, as the order
+  // before round thirteen gives them.
+  Rng g(1313);
+  long rays = 0, zeros = 0, hits = 0;
+  const Vec3 dirs[] = {v3(0, 0, -1),
+                       v3(0, 0, 1),
+                       v3(1, 0, 0),
+                       v3(0, -1, 0),
+                       normalize(v3(1, 0, -1)),
+                       normalize(v3(0, 1, -1)),
+                       normalize(v3(-1, -1, -1))};
+  for (int tri = 0; tri < 64; ++tri) {
+    auto grid = [&](int n) { return (float)std::floor(uni(g, -n, n + 1)) * 0.25f; };
+    Vec3 a = v3(grid(8), grid(8), grid(2)), b = v3(grid(8), grid(8), grid(2)),
+         c = v3(grid(8), grid(8), grid(2));
+    if (tri == 0) a = v3(0, 0, 0), b = v3(1, 0, 0), c = v3(0, 1, 0);
+    Shape s = make_triangle(a, b, c);
+    if (s.kind != kTriangle) continue;
+    for (int i = 0; i < 4000; ++i) {
+      Vec3 dir = dirs[i % 7];
+      Vec3 p;
+      Vec3 org;
+      if (i % 2) { // a random ray through a point of an edge's line (double)
+        const Vec3* v[3] = {&a, &b, &c};
+        D3 e0 = dv(*v[i % 3]), e1 = dv(*v[(i + 1) % 3]);
+        D3 q = e0 + (e1 - e0) * uni(g, -0.5, 1.5), d = rand_unit(g);
+        dir = fdir(d);
+        org = fv(q - d * uni(g, 0.5, 8));
+      } else {
+        if (i % 3 == 0) { // a grid point: on edges, their extensions and vertices
+          p = v3(grid(10), grid(10), grid(3));
+        } else { // on an edge's line, inside or beyond its ends
+          Vec3 e0 = i % 3 == 1 ? a : b, e1 = i % 3 == 1 ? c : a;
+          float u = (float)std::floor(uni(g, -8, 13)) * 0.125f;
+          p = e0 + (e1 - e0) * u;
+        }
+        org = p - dir * 4.0f;
+      }
+      float tRef = 0;
+      bool zero = false;
+      bool ref = triangle_before13(s, org, dir, tRef, zero);
+      Hit h;
+      h.t = kHuge;
+      bool got = intersect_t(s, Ray{org, dir}, 0.0f, h);
+      ++rays;
+      hits += ref;
+      zeros += zero;
+      ASSERT_EQ(got, ref) << "triangle " << tri << " ray " << i;
+      if (ref) {
+        ASSERT_EQ(h.t, tRef) << "triangle " << tri << " ray " << i;
+      }
+    }
+  }
+  std::printf("[ measured ] %ld rays at edges and vertices: %ld hits, %ld with a float edge "
+              "function of 0\n",
+              rays, hits, zeros);
+  EXPECT_GE(rays, 200000);
+  EXPECT_GE(hits, 20000);
+  EXPECT_GE(zeros, 10000);
+}
+
 TEST(Triangle, ObliqueRaysAtEdgesAndVerticesFinite) {
   Shape s = unit_triangle();
   Rng g(112);

@@ -10,6 +10,41 @@ inline float max_abs_bits(Vec3 a) {
   return rt_max(abs_bits(a.x), rt_max(abs_bits(a.y), abs_bits(a.z)));
 }
 
+// A Vec3's x, y, z four floats wide (lane 3 unused): each + - * on them is
+// one packed SSE instruction, which rounds as the scalar one does, and
+// dot3() sums the products (x + y) + z as dot() does, so the same
+// expressions give the same bits as with Vec3 (round thirteen,
+// docs/tracer-speed.md).
+typedef float f4 __attribute__((vector_size(16)));
+typedef i32 i4 __attribute__((vector_size(16)));
+
+// x, y, z of a Shape's a or b, or of a Ray's org, read as 16 bytes of the
+// struct: the fourth lane is the float that follows in it.
+static_assert(__builtin_offsetof(Shape, b) + 16 <= sizeof(Shape), "b is followed by c");
+static_assert(__builtin_offsetof(Ray, org) == 0 && sizeof(Ray) == 24, "org, then dir");
+__attribute__((always_inline)) inline f4 lanes_at(const void* p) {
+  f4 r;
+  __builtin_memcpy(&r, p, 16);
+  return r;
+}
+__attribute__((always_inline)) inline f4 shape_a(const Shape& s) {
+  return lanes_at((const char*)&s + __builtin_offsetof(Shape, a));
+}
+__attribute__((always_inline)) inline f4 shape_b(const Shape& s) {
+  return lanes_at((const char*)&s + __builtin_offsetof(Shape, b));
+}
+__attribute__((always_inline)) inline f4 org_lanes(const Ray& ray) { return lanes_at(&ray); }
+// A Ray's dir from its last 16 bytes (org.z, dir): no read past the Ray.
+__attribute__((always_inline)) inline f4 dir_lanes(const Ray& ray) {
+  return __builtin_shuffle(lanes_at((const char*)&ray + 8), i4{1, 2, 3, 0});
+}
+__attribute__((always_inline)) inline float dot3(f4 a, f4 b) {
+  f4 p = a * b;
+  // y and z brought to lane 0 by pshufd (a copy and a shuffle in one).
+  f4 y = (f4)__builtin_ia32_pshufd((i4)p, 0x55), z = (f4)__builtin_ia32_pshufd((i4)p, 0xaa);
+  return p[0] + y[0] + z[0];
+}
+
 // Accepts t when it is the new nearest: records t and which piece it is on.
 // The normal waits for hit_normal(): only the nearest hit needs one.
 bool accept(float t, float tMin, u8 piece, float local, Hit& hit) {
@@ -24,13 +59,14 @@ bool accept(float t, float tMin, u8 piece, float local, Hit& hit) {
 // Intersection" (Ray Tracing Gems ch. 7): discriminant r^2 - |f - (f.d)d|^2
 // and roots q = -(b + sign(b) sqrt(disc)), t0 = c/q, t1 = q (a = 1).
 bool hit_sphere(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  Vec3 f = ray.org - s.a;
-  float b = dot(f, ray.dir);
-  Vec3 perp = f - ray.dir * b;
+  f4 dir = dir_lanes(ray);
+  f4 f = org_lanes(ray) - shape_a(s);
+  float b = dot3(f, dir);
+  f4 perp = f - dir * b;
   float r2 = s.r0 * s.r0;
-  float disc = r2 - dot(perp, perp);
+  float disc = r2 - dot3(perp, perp);
   if (disc < 0) return false;
-  float c = dot(f, f) - r2;
+  float c = dot3(f, f) - r2;
   float q = -(b + (b >= 0 ? rt_sqrt(disc) : -rt_sqrt(disc)));
   // q == 0 only when b == 0 and disc == 0: a tangent ray through the centre's
   // foot point from the centre itself (f = 0 and r = 0); no hit worth keeping.
@@ -66,10 +102,11 @@ inline double plane_cos(const Shape& s, const Ray& ray) {
 // the front), decided by the same cos as t: float's cos alone has the wrong
 // sign for |cos| below ~6e-8.
 bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  float c = dot(s.a, ray.dir), t;
+  f4 a = shape_a(s);
+  float c = dot3(a, dir_lanes(ray)), t;
   bool front;
   if (abs_bits(c) >= kPlaneCosFloat) {
-    t = dot(s.a, s.b - ray.org) / c;
+    t = dot3(a, shape_b(s) - org_lanes(ray)) / c;
     front = c < 0;
   } else {
     double cd = plane_cos(s, ray);
@@ -137,21 +174,23 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 
 // The ray in the axis frame (above).
 struct FrustumFrame {
-  Vec3 v, u;
+  f4 v, u;
   float tc, y0, dy, k, uu, rim;
 };
 
 __attribute__((always_inline)) inline FrustumFrame frustum_frame(const Shape& s, const Ray& ray) {
   FrustumFrame f;
-  Vec3 axis = s.b;
-  Vec3 w = ray.org - s.a;
-  float yw = dot(w, axis);
-  f.dy = dot(ray.dir, axis);
-  Vec3 vw = w - axis * yw;
-  f.u = ray.dir - axis * f.dy;
-  f.uu = dot(f.u, f.u);
-  f.rim = kRimRel * (max_abs_bits(w) + s.c.y);
-  float tc = -dot(vw, f.u) / f.uu;
+  f4 axis = shape_b(s);
+  f4 dir = dir_lanes(ray);
+  f4 w = org_lanes(ray) - shape_a(s);
+  float yw = dot3(w, axis);
+  f.dy = dot3(dir, axis);
+  f4 vw = w - axis * yw;
+  f.u = dir - axis * f.dy;
+  f.uu = dot3(f.u, f.u);
+  f4 aw = (f4)((i4)w & i4{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
+  f.rim = kRimRel * (rt_max(aw[0], rt_max(aw[1], aw[2])) + s.c.y);
+  float tc = -dot3(vw, f.u) / f.uu;
   if (!(f.uu >= s.c.z)) {
     // Near the axis (|dy| > 0.7: the slab is short), or a flat side (c.z =
     // 2, always). Written so that a NaN t_axis (u = 0) ends at the slab's
@@ -189,14 +228,14 @@ __attribute__((always_inline)) inline FrustumFrame frustum_frame(const Shape& s,
 
 bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   FrustumFrame f = frustum_frame(s, ray);
-  Vec3 v = f.v, u = f.u;
-  float vv = dot(v, v);
+  f4 v = f.v, u = f.u;
+  float vv = dot3(v, v);
   float reach = rt_max(s.r0, s.r1) + kCullRim * f.rim;
   if (vv > reach * reach) return false;
   float tc = f.tc, y0 = f.y0, dy = f.dy, k = f.k;
   float rk = s.r0 + k * y0;
   float A = f.uu - k * k * dy * dy;
-  float B = dot(u, v) - k * dy * rk;
+  float B = dot3(u, v) - k * dy * rk;
   float C = vv - rk * rk;
   bool found = false;
   float disc = B * B - A * C;
@@ -210,8 +249,8 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
       float y = y0 + tr * dy, rim = f.rim;
       if (y < -rim || y > s.h + rim) continue;
       if (s.c.z > 1) { // flat side: its ends radially
-        Vec3 pPerp = v + u * tr;
-        float rho2 = dot(pPerp, pPerp), lo = rt_min(s.r0, s.r1) - rim,
+        f4 pPerp = v + u * tr;
+        float rho2 = dot3(pPerp, pPerp), lo = rt_min(s.r0, s.r1) - rim,
               hi = rt_max(s.r0, s.r1) + rim;
         if (rho2 < lo * abs_bits(lo) || rho2 > hi * hi) continue;
       }
@@ -224,9 +263,9 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   auto cap = [&](float yc, float rc, u8 piece) __attribute__((always_inline)) {
     float tr = (yc - y0) / dy, t = tc + tr;
     if (!(t > tMin && t < hit.t)) return;
-    Vec3 pPerp = v + u * tr;
+    f4 pPerp = v + u * tr;
     float rr = rc + f.rim;
-    if (dot(pPerp, pPerp) > rr * rr) return;
+    if (dot3(pPerp, pPerp) > rr * rr) return;
     found |= accept(t, tMin, piece, tr, hit);
   };
   if (dy != 0) {
@@ -250,14 +289,20 @@ bool hit_frustum(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
 Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
   Vec3 axis = s.b;
   if (hit.piece != kPieceSide) return hit.piece == kPieceTop ? axis : -axis;
-  Vec3 q = ray.org - s.a + ray.dir * hit.t;
-  Vec3 pPerp = q - axis * dot(q, axis);
-  float rho2 = dot(pPerp, pPerp);
+  // Four floats wide, as the solver (normalize() written out).
+  f4 ax = shape_b(s);
+  f4 q = (org_lanes(ray) - shape_a(s)) + dir_lanes(ray) * hit.t;
+  f4 pPerp = q - ax * dot3(q, ax);
+  float rho2 = dot3(pPerp, pPerp);
   if (!(rho2 <= 1e20f)) { // only from beyond the domain: keep |n|^2 from overflowing
-    pPerp = pPerp * (1.0f / max_abs(pPerp));
-    rho2 = dot(pPerp, pPerp);
+    pPerp = pPerp * (1.0f / max_abs(Vec3{pPerp[0], pPerp[1], pPerp[2]}));
+    rho2 = dot3(pPerp, pPerp);
   }
-  return normalize(pPerp - axis * (s.c.x * rt_sqrt(rho2)), axis);
+  f4 n = pPerp - ax * (s.c.x * rt_sqrt(rho2));
+  float len2 = dot3(n, n);
+  if (!(len2 > 1e-30f)) return axis; // normalize()'s fallback
+  n = n * (1.0f / rt_sqrt(len2));
+  return Vec3{n[0], n[1], n[2]};
 }
 
 // Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
@@ -266,10 +311,12 @@ Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
 // both triangles, so the ground quad's diagonal has no cracks. Edge functions
 // that come out exactly 0 are recomputed in double, as the paper does.
 bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
-  Vec3 ao = ray.org - s.a;
-  float side = dot(s.n, ao), away = dot(s.n, ray.dir);
+  static_assert(__builtin_offsetof(Shape, n) + 16 <= sizeof(Shape), "n is followed by more");
+  f4 n = lanes_at((const char*)&s + __builtin_offsetof(Shape, n));
+  f4 ao = org_lanes(ray) - shape_a(s);
+  float side = dot3(n, ao), away = dot3(n, dir_lanes(ray));
   if (tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
-      abs_bits(side) > s.sideMargin * max_abs_bits(ao))
+      abs_bits(side) > s.sideMargin * max_abs_bits(Vec3{ao[0], ao[1], ao[2]}))
     return false; // starts off the plane and moves away from it (kSideRel)
   // Components indexed by kx, ky, kz: loads from the vectors themselves (their
   // bytes, at 4 i), not branches; each difference is the one s.a - ray.org
@@ -297,12 +344,27 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float Bx = rel(s.b, kx) - Sx * Bz, By = rel(s.b, ky) - Sy * Bz;
   float Cx = rel(s.c, kx) - Sx * Cz, Cy = rel(s.c, ky) - Sy * Cz;
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
+  // Edge functions of both signs: the ray passes beside the triangle. A
+  // float edge function that is not 0 has the exact one's sign (the two
+  // products round monotonically: the larger to no less than the smaller),
+  // and so has its recompute in double (exact products, one rounding), but
+  // for an exact value under 2^-150, which rounds to a float 0: a difference
+  // of products of floats that small needs a factor under ~2^-52 at the
+  // domain's sizes (<= 2^33): a ray that close to the triangle's edges, in
+  // the band of THE INTERSECTION CONTRACT (2^-16 of R >= 2^-32). So
+  // two of opposite signs answer "beside" whatever the third, recomputed or
+  // not: that test comes first, and the zeros are looked for only on the
+  // rays that pass it (a miss leaves 12 instructions sooner; round thirteen).
+  auto beside = [](float a, float b, float c) __attribute__((always_inline)) {
+    return (a < 0 || b < 0 || c < 0) && (a > 0 || b > 0 || c > 0);
+  };
+  if (beside(U, V, W)) return false;
   if (U == 0 || V == 0 || W == 0) {
     U = (float)((double)Cx * By - (double)Cy * Bx);
     V = (float)((double)Ax * Cy - (double)Ay * Cx);
     W = (float)((double)Bx * Ay - (double)By * Ax);
+    if (beside(U, V, W)) return false;
   }
-  if ((U < 0 || V < 0 || W < 0) && (U > 0 || V > 0 || W > 0)) return false;
   float det = U + V + W;
   if (det == 0) return false; // ray in the triangle's plane: edge-on, no area seen
   float T = U * Sz * Az + V * Sz * Bz + W * Sz * Cz;

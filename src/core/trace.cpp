@@ -26,12 +26,19 @@ typedef float f4 __attribute__((vector_size(16)));
 // a frame with shadow_mask's the same (docs/tracer-speed.md, round seven).
 __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
   u32 mask = s.unboundedMask & range;
-  f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
-  f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};
-  f4 oz = {ray.org.z, ray.org.z, ray.org.z, ray.org.z};
-  f4 dx = {ray.dir.x, ray.dir.x, ray.dir.x, ray.dir.x};
-  f4 dy = {ray.dir.y, ray.dir.y, ray.dir.y, ray.dir.y};
-  f4 dz = {ray.dir.z, ray.dir.z, ray.dir.z, ray.dir.z};
+  // The six broadcasts from two 16-byte loads of the Ray's 24 bytes (org.x
+  // .. dir.x and org.z .. dir.z) and a pshufd each (a shuffle that needs no
+  // copy of its source first): 8 instructions where a load and a shufps per
+  // coordinate took 12, the same values (docs/tracer-speed.md, round
+  // thirteen).
+  static_assert(sizeof(Ray) == 24, "Ray: org then dir, six floats");
+  typedef int i4 __attribute__((vector_size(16)));
+  i4 lo, hi;
+  __builtin_memcpy(&lo, (const char*)&ray, 16);
+  __builtin_memcpy(&hi, (const char*)&ray + 8, 16);
+  f4 ox = (f4)__builtin_ia32_pshufd(lo, 0x00), oy = (f4)__builtin_ia32_pshufd(lo, 0x55);
+  f4 oz = (f4)__builtin_ia32_pshufd(lo, 0xaa), dx = (f4)__builtin_ia32_pshufd(lo, 0xff);
+  f4 dy = (f4)__builtin_ia32_pshufd(hi, 0xaa), dz = (f4)__builtin_ia32_pshufd(hi, 0xff);
   f4 zero = {0, 0, 0, 0};
 #pragma GCC unroll 2
   for (int g = 0; g < kMaxObjects; g += 4) {
@@ -268,6 +275,8 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
         face_ray(sphere_outward(obj.shape, ray, hit), ray, hit);
       else if (Resume && obj.shape.kind == kPlane)
         plane_normal(obj.shape, hit);
+      else if (Resume && obj.shape.kind == kTriangle) // its stored unit normal (shapes.h)
+        face_ray(Vec3{obj.shape.r0, obj.shape.r1, obj.shape.h}, ray, hit);
       else
         hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;

@@ -26,12 +26,19 @@ typedef float f4 __attribute__((vector_size(16)));
 // a frame with shadow_mask's the same (docs/tracer-speed.md, round seven).
 __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
   u32 mask = s.unboundedMask & range;
-  f4 ox = {ray.org.x, ray.org.x, ray.org.x, ray.org.x};
-  f4 oy = {ray.org.y, ray.org.y, ray.org.y, ray.org.y};
-  f4 oz = {ray.org.z, ray.org.z, ray.org.z, ray.org.z};
-  f4 dx = {ray.dir.x, ray.dir.x, ray.dir.x, ray.dir.x};
-  f4 dy = {ray.dir.y, ray.dir.y, ray.dir.y, ray.dir.y};
-  f4 dz = {ray.dir.z, ray.dir.z, ray.dir.z, ray.dir.z};
+  // The six broadcasts from two 16-byte loads of the Ray's 24 bytes (org.x
+  // .. dir.x and org.z .. dir.z) and a pshufd each (a shuffle that needs no
+  // copy of its source first): 8 instructions where a load and a shufps per
+  // coordinate took 12, the same values (docs/tracer-speed.md, round
+  // thirteen).
+  static_assert(sizeof(Ray) == 24, "Ray: org then dir, six floats");
+  typedef int i4 __attribute__((vector_size(16)));
+  i4 lo, hi;
+  __builtin_memcpy(&lo, (const char*)&ray, 16);
+  __builtin_memcpy(&hi, (const char*)&ray + 8, 16);
+  f4 ox = (f4)__builtin_ia32_pshufd(lo, 0x00), oy = (f4)__builtin_ia32_pshufd(lo, 0x55);
+  f4 oz = (f4)__builtin_ia32_pshufd(lo, 0xaa), dx = (f4)__builtin_ia32_pshufd(lo, 0xff);
+  f4 dy = (f4)__builtin_ia32_pshufd(hi, 0xaa), dz = (f4)__builtin_ia32_pshufd(hi, 0xff);
   f4 zero = {0, 0, 0, 0};
 #pragma GCC unroll 2
   for (int g = 0; g < kMaxObjects; g += 4) {
@@ -157,6 +164,9 @@ __attribute__((always_inline)) inline float cook_torrance(const Material& m, Vec
 
 Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
+// The x, y, z lanes of a sum (trace_tree's, in lanes).
+inline Vec3 xyz(f4 v) { return Vec3{v[0], v[1], v[2]}; }
+
 // trace_tree's id of a ray whose nearest hit is still to be found.
 constexpr int kFindHit = -2;
 
@@ -193,8 +203,8 @@ constexpr int kFindHit = -2;
 // resume (intro.exe, which links no packet code, holds that copy only;
 // the native tool holds both: docs/tracer-speed.md, round eleven).
 template <bool Resume>
-static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit,
-                                     int depth, float weight, u32 skip, const TreePart* part) {
+static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, Hit& hit, int depth,
+                                   float weight, u32 skip, const TreePart* part) {
   const Scene& s = *ctx.scene;
   // (Resume: computed once a packet by trace_children4.)
   int maxDepth = Resume                        ? part->maxDepth
@@ -207,7 +217,10 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
   // The ray of the node shaded: the root's, then a waiting ray's own slot
   // (read in place: its children go to the slots of the next depth).
   const Ray* cur = &first;
-  Vec3 sum = v3(0.0f);
+  // The sum in one SSE register's lanes x, y, z (lane 3 unused): a node adds
+  // its colour times its weight with one mulps and one addps, lane for lane
+  // the scalar products and sums (the same bits: lanes.h).
+  f4 sum = {0, 0, 0, 0};
   // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = Resume ? part->all : range_mask(0, s.numObjects);
   u32 foreground = Resume ? part->foreground : range_mask(0, s.numForeground);
@@ -239,7 +252,9 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
       // The lone-solid shortcut (below, at the spawn): skip's bits from
       // kOnlyShift name the one object to test first.
       u32 only = skip >> kOnlyShift;
-      hit.t = kHuge;
+      // (nearest_among() sets hit.t itself: the resumed copy stores it here
+      // for the lone solid's test only.)
+      if (!Resume || only) hit.t = kHuge;
       if (only && intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit))
         id = (int)only - 1;
       else
@@ -255,7 +270,13 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
       *node = (u32)(id + 1);
     }
     if (id < 0) {
-      sum += s.background * weight;
+      // background, then ambient.x in lane 3 (unused): one 16-byte load.
+      static_assert(__builtin_offsetof(Scene, ambient) ==
+                        __builtin_offsetof(Scene, background) + 12,
+                    "Scene: background, then ambient");
+      f4 bg;
+      __builtin_memcpy(&bg, &s.background, 16);
+      sum += bg * weight;
     } else {
       const Object& obj = s.objects[id];
       const Material& m = obj.mat;
@@ -268,6 +289,8 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
         face_ray(sphere_outward(obj.shape, ray, hit), ray, hit);
       else if (Resume && obj.shape.kind == kPlane)
         plane_normal(obj.shape, hit);
+      else if (Resume && obj.shape.kind == kTriangle) // its stored unit normal (shapes.h)
+        face_ray(Vec3{obj.shape.r0, obj.shape.r1, obj.shape.h}, ray, hit);
       else
         hit_normal(obj.shape, ray, hit);
       u32 self = 1u << id;
@@ -389,7 +412,7 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
         }
         if (node) *node |= bits << (5 + 3 * li);
       }
-      sum += color * weight;
+      sum += (f4){color.x, color.y, color.z, 0.0f} * weight;
     }
     if (!waiting) break;
     int slot = 31 - __builtin_clz(waiting);
@@ -410,12 +433,12 @@ static RT64K_HOT_ABI Vec3 trace_tree(TraceContext& ctx, const Ray& first, int id
 Vec3 trace(TraceContext& ctx, const Ray& ray, int depth, float weight, u32 skip) {
   Hit hit;
   // The caller's skip names objects only: bits from kOnlyShift are trace_tree's.
-  return trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight, skip & ((1u << kOnlyShift) - 1),
-                           nullptr);
+  return xyz(trace_tree<false>(ctx, ray, kFindHit, hit, depth, weight,
+                               skip & ((1u << kOnlyShift) - 1), nullptr));
 }
 
 Vec3 trace_hit(TraceContext& ctx, const Ray& ray, int id, Hit& hit, int depth, float weight) {
-  return trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr);
+  return xyz(trace_tree<false>(ctx, ray, id, hit, depth, weight, 0, nullptr));
 }
 
 int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit) {
@@ -442,15 +465,15 @@ Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& c
 // One call site of the tree, inlined into trace_children4 (flattened): a
 // second copy of the tree there (out of line: +0.05 to +0.18 % of scene 1's
 // frames).
-__attribute__((always_inline)) inline Vec3 trace_split(TraceContext& ctx, const RootNode& r,
-                                                       Hit& hit, const TreePart& scene) {
-  Vec3 sum = r.sum;
+__attribute__((always_inline)) inline f4 trace_split(TraceContext& ctx, const RootNode& r, Hit& hit,
+                                                     const TreePart& scene) {
+  f4 sum = {r.sum.x, r.sum.y, r.sum.z, 0.0f};
   PathRecord* rec = ctx.record;
   // A shaded node where the tree reaches it: its record node, then
   // sum += color * weight, as trace_tree's loop adds them.
   auto take = [&](const PreNode& n, float weight) {
     if (rec && n.records && rec->count < kMaxPathNodes) rec->node[rec->count++] = n.node;
-    sum += n.color * weight;
+    sum += (f4){n.color.x, n.color.y, n.color.z, 0.0f} * weight;
   };
   const PreNode& pre = r.pre[0];
   for (int step = 0; step < 3; ++step) {
@@ -497,7 +520,7 @@ __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode 
   const Scene& s = *ctx.scene;
   const TreePart scene{nullptr,
                        0,
-                       v3(0.0f),
+                       {0, 0, 0, 0},
                        range_mask(0, s.numObjects),
                        range_mask(0, s.numForeground),
                        s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth};
@@ -505,11 +528,12 @@ __attribute__((flatten)) void trace_children4(TraceContext& ctx, const RootNode 
     int k = __builtin_ctz(lanes);
     if (paths) ctx.record = &paths[k];
     if (shaded >> k & 1)
-      color[k] = trace_split(ctx, root[k], hit, scene) * 1.0f;
+      color[k] = xyz(trace_split(ctx, root[k], hit, scene));
     else if (root[k].waiting) {
-      TreePart tp{root[k].child, root[k].waiting,  root[k].sum,
+      const Vec3& r = root[k].sum;
+      TreePart tp{root[k].child, root[k].waiting,  {r.x, r.y, r.z, 0.0f},
                   scene.all,     scene.foreground, scene.maxDepth};
-      color[k] = trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &tp) * 1.0f;
+      color[k] = xyz(trace_tree<true>(ctx, root[k].child[0].ray, kFindHit, hit, 1, 1.0f, 0, &tp));
     } else
       color[k] = root[k].sum * 1.0f; // sum * (1 / rootWeight)
   }

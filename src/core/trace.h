@@ -161,7 +161,7 @@ struct RootNode {
 struct TreePart {
   const Pending* kids;
   u32 waiting;
-  Vec3 sum;
+  f4 sum; // x, y, z (lane 3 unused): trace_tree's sum is kept in lanes
   u32 all, foreground;
   int maxDepth;
 };

@@ -60,26 +60,22 @@ inline void columns(const float* const r[4], f4 out[4]) {
   rows(load4(r[0]), load4(r[1]), load4(r[2]), load4(r[3]), out);
 }
 
-// Each lane's Pending ray and weight (its first 28 bytes, Ray then weight)
-// as two rows of four floats: lane k's at row[2 k], row[2 k + 1].
+// Each lane's waiting ray (origin o, direction d, weight w, skip bits) as
+// the first 32 bytes of its Pending (Ray, weight, skip): two rows of four
+// floats, lane k's lo[k] (org, dir.x) and hi[k] (dir.y, dir.z, weight,
+// skip), stored by put() with its pastGlass: three stores a lane.
 static_assert(sizeof(Ray) == 24 && __builtin_offsetof(Pending, weight) == 24 &&
                   __builtin_offsetof(Pending, skip) == 28,
               "Pending starts with its ray, weight and skip");
 struct PendingRows {
-  alignas(16) f4 row[8];
-  void set(V4 o, V4 d, f4 w) {
-    f4 lo[4], hi[4];
+  f4 lo[4], hi[4];
+  PendingRows(V4 o, V4 d, f4 w, i4 skip) {
     rows(o.x, o.y, o.z, d.x, lo);
-    rows(d.y, d.z, w, w, hi);
-    for (int k = 0; k < 4; ++k) {
-      row[2 * k] = lo[k];
-      row[2 * k + 1] = hi[k];
-    }
+    rows(d.y, d.z, w, (f4)skip, hi);
   }
-  // Lane k's as a Pending with the given skip and pastGlass.
-  void put(int k, Pending& p, u32 skip, bool glass) const {
-    __builtin_memcpy(&p, &row[2 * k], 32);
-    p.skip = skip;
+  void put(int k, Pending& p, bool glass) const {
+    __builtin_memcpy(&p, &lo[k], 16);
+    __builtin_memcpy((char*)&p + 16, &hi[k], 16);
     p.pastGlass = glass;
   }
 };
@@ -399,14 +395,15 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     u32 castT = glass ? lane_bits(~tir & (W * transmit >= f4_of(kMinRayWeight)) & live) : 0;
     V4 R = D - N * (2.0f * dot(N, D));
     *(f4*)dR = dot(R, N);
-    PendingRows rayR, rayT;
-    if (castR) rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, W * *(f4*)fR);
+    f4 offR = *(f4*)dR >= zero ? *(f4*)off : -*(f4*)off;
+    V4 T = D;
+    f4 offT = zero;
     if (castT) {
       V4 t = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(t, t);
-      V4 T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
+      T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
       *(f4*)dT = dot(T, N);
-      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, W * transmit);
+      offT = *(f4*)dT >= zero ? *(f4*)off : -*(f4*)off;
     }
     // The skip bits in lanes: the object where the ray leaves it for good
     // (leaves_for_good_dot(): a flat shape always, else front ? d > 0 : d <
@@ -416,20 +413,21 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
       onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
               i4_of((i32)((u32)(id + 1) << kOnlyShift));
     i4 flatL = i4_of(-(i32)flat);
-    alignas(16) u32 skR[4], skT[4];
-    *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
-    *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+    i4 skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
     *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (2 * depth + 3))) |
                     (lanes_of(castT) & i4_of(1 << (2 * depth + 2)));
     ctx.stats.secondary +=
         (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
-    for (u32 q = castR; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      rayR.put(k, dst[k]->child[1], skR[k], pastGlass);
+    if (castR) {
+      PendingRows rayR(p + N * offR, R, W * *(f4*)fR, skR);
+      for (int k = 0; k < 4; ++k)
+        if (castR >> k & 1) rayR.put(k, dst[k]->child[1], pastGlass);
     }
-    for (u32 q = castT; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      rayT.put(k, dst[k]->child[0], skT[k], true);
+    if (castT) {
+      i4 skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+      PendingRows rayT(p + N * offT, T, W * transmit, skT);
+      for (int k = 0; k < 4; ++k)
+        if (castT >> k & 1) rayT.put(k, dst[k]->child[0], true);
     }
   }
 
@@ -818,15 +816,15 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
     *(f4*)dR = dot(R, N);
-    PendingRows rayR, rayT;
-    rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, one * *(f4*)fR);
+    V4 oR = p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), T = D, oT = p;
     if (castT) {
       V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(a, a);
-      V4 T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
+      T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
       *(f4*)dT = dot(T, N);
-      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
+      oT = p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off);
     }
+    alignas(16) u32 skR[4] = {0, 0, 0, 0}, skT[4] = {0, 0, 0, 0};
     if (uniform) {
       // One object in every lane: the skip bits (leaves_for_good_dot(),
       // else the lone-solid shortcut's bits where the offset allows), the
@@ -839,21 +837,12 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
         onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
                 i4_of((i32)((u32)(j + 1) << kOnlyShift));
       i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
-      alignas(16) u32 skR[4], skT[4];
       *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
       *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
       *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (kRootSlot + 1))) |
                       (lanes_of(castT) & i4_of(1 << kRootSlot));
       ctx.stats.secondary +=
           (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
-      for (u32 q = castR; q; q &= q - 1) {
-        int k = __builtin_ctz(q);
-        rayR.put(k, root[k].child[1], skR[k], false);
-      }
-      for (u32 q = castT; q; q &= q - 1) {
-        int k = __builtin_ctz(q);
-        rayT.put(k, root[k].child[0], skT[k], true);
-      }
     } else {
       // Mixed packets: per lane.
       for (u32 q = castR | castT; q; q &= q - 1) {
@@ -864,18 +853,26 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
                        ? (u32)(id[k] + 1) << kOnlyShift
                        : 0;
         if (castR >> k & 1) {
-          u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-          rayR.put(k, root[k].child[1], skip, false);
+          skR[k] = leaves(sh, frontOf[k], dR[k]) ? self : only;
           waiting[k] |= 1u << (kRootSlot + 1);
           ++ctx.stats.secondary;
         }
         if (castT >> k & 1) {
-          u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-          rayT.put(k, root[k].child[0], skip, true);
+          skT[k] = leaves(sh, frontOf[k], dT[k]) ? self : only;
           waiting[k] |= 1u << kRootSlot;
           ++ctx.stats.secondary;
         }
       }
+    }
+    // Every lane's rays stored (root[] is this call's: a lane's child is
+    // read only where its waiting bit is set).
+    PendingRows rayR(oR, R, one * *(f4*)fR, *(i4*)skR);
+    for (int k = 0; k < 4; ++k)
+      rayR.put(k, root[k].child[1], false);
+    if (castT) {
+      PendingRows rayT(oT, T, one * transmit, *(i4*)skT);
+      for (int k = 0; k < 4; ++k)
+        rayT.put(k, root[k].child[0], true);
     }
   }
 

@@ -919,19 +919,23 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
                     i4_of((i32)(4u << (5 + 3 * li)));
   }
-  Lanes3 sum;
-  sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight
-
-  for (u32 m = lanes; m; m &= m - 1) {
-    int k = __builtin_ctz(m);
-    if (paths) {
+  // Each lane's waiting bits and sum (v3(0) + colour * 1, trace_tree's sum
+  // += color * weight) as one row, RootNode's `waiting` then `sum`: every
+  // lane stored (root[] is this call's).
+  static_assert(__builtin_offsetof(RootNode, sum) == __builtin_offsetof(RootNode, waiting) + 4,
+                "RootNode's sum follows its waiting bits");
+  V4 sum = V4{zero, zero, zero} + col * one;
+  f4 ws[4];
+  rows((f4) * (i4*)waiting, sum.x, sum.y, sum.z, ws);
+  for (int k = 0; k < 4; ++k)
+    __builtin_memcpy(&root[k].waiting, &ws[k], 16);
+  if (paths)
+    for (u32 m = lanes; m; m &= m - 1) {
+      int k = __builtin_ctz(m);
       PathRecord& rec = paths[k];
       rec.node[0] = (u32)(id[k] + 1) | bits[k];
       rec.count = 1;
     }
-    root[k].waiting = waiting[k];
-    root[k].sum = sum.lane(k);
-  }
   // The second level: the refracted children into a lone solid (second4()).
   u32 shaded = 0;
   if (castT) {

@@ -450,8 +450,9 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     f4 big = max4(lane_abs(term.x), max4(lane_abs(term.y), lane_abs(term.z)));
     u32 cast = lit & lane_bits(recordable | (W * big >= f4_of(kShadowSkip)));
     u32 shadowed = 0;
-    V4 tv = {one, one, one};
+    V4 through = term; // term * transmittance: term where no ray meets a bound (term * 1)
     if (cast) {
+      V4 tv = {one, one, one};
       alignas(16) u32 objects[4];
       *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
       u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & cast;
@@ -483,9 +484,10 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
         auto exits = [&](int k) { return (inside >> k & 1) && exitsLight ? self : 0u; };
         shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
       }
+      through = term * tv;
     }
     i4 add = lanes_of(lit & ~shadowed);
-    col = select(add, col + term * tv, col);
+    col = select(add, col + through, col);
     *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
                   i4_of((i32)(4u << (5 + 3 * li)));
   }
@@ -898,23 +900,26 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & lit;
     u32 shadowed = 0;
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
-    V4 tv = {one, one, one};
+    // term * transmittance; where no lane's ray meets a bound, term (term * 1, the same bits).
+    V4 through = term;
     if (cand) {
+      V4 tv = {one, one, one};
       auto exiting = [&](int j) {
         return s.lightC[li][j] > 0 ? inside & lane_bits(ids == i4_of(j)) : 0u;
       };
       cand =
           one_solid_shadows4(s, li, cand, objects, exiting, lightOrg, L, dist, tv, shadowed, bits);
-    }
-    if (cand) {
-      // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
-      auto exits = [&](int k) {
-        return (inside >> k & 1) && s.lightC[li][id[k]] > 0 ? 1u << id[k] : 0u;
-      };
-      shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
+      if (cand) {
+        // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
+        auto exits = [&](int k) {
+          return (inside >> k & 1) && s.lightC[li][id[k]] > 0 ? 1u << id[k] : 0u;
+        };
+        shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
+      }
+      through = term * tv;
     }
     i4 add = lanes_of(lit & ~shadowed);
-    col = select(add, col + term * tv, col);
+    col = select(add, col + through, col);
     if (paths)
       *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
                     i4_of((i32)(4u << (5 + 3 * li)));

@@ -934,13 +934,16 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   rows((f4) * (i4*)waiting, sum.x, sum.y, sum.z, ws);
   for (int k = 0; k < 4; ++k)
     __builtin_memcpy(&root[k].waiting, &ws[k], 16);
-  if (paths)
+  if (paths) {
+    alignas(16) u32 node[4];
+    *(i4*)node = (h.id + 1) | *(i4*)bits;
     for (u32 m = lanes; m; m &= m - 1) {
       int k = __builtin_ctz(m);
       PathRecord& rec = paths[k];
-      rec.node[0] = (u32)(id[k] + 1) | bits[k];
+      rec.node[0] = node[k];
       rec.count = 1;
     }
+  }
   // The second level: the refracted children into a lone solid (second4()).
   u32 shaded = 0;
   if (castT) {

@@ -869,10 +869,12 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     // Every lane's rays stored (root[] is this call's: a lane's child is
     // read only where its waiting bit is set).
     PendingRows rayR(oR, R, one * *(f4*)fR, *(i4*)skR);
+#pragma GCC unroll 4
     for (int k = 0; k < 4; ++k)
       rayR.put(k, root[k].child[1], false);
     if (castT) {
       PendingRows rayT(oT, T, one * transmit, *(i4*)skT);
+#pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
         rayT.put(k, root[k].child[0], true);
     }

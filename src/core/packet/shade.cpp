@@ -420,12 +420,14 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
         (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
     if (castR) {
       PendingRows rayR(p + N * offR, R, W * *(f4*)fR, skR);
+#pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
         if (castR >> k & 1) rayR.put(k, dst[k]->child[1], pastGlass);
     }
     if (castT) {
       i4 skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
       PendingRows rayT(p + N * offT, T, W * transmit, skT);
+#pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
         if (castT >> k & 1) rayT.put(k, dst[k]->child[0], true);
     }
@@ -934,6 +936,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   V4 sum = V4{zero, zero, zero} + col * one;
   f4 ws[4];
   rows((f4) * (i4*)waiting, sum.x, sum.y, sum.z, ws);
+#pragma GCC unroll 4
   for (int k = 0; k < 4; ++k)
     __builtin_memcpy(&root[k].waiting, &ws[k], 16);
   if (paths) {

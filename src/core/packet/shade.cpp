@@ -493,16 +493,25 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
                   i4_of((i32)(4u << (5 + 3 * li)));
   }
-  Lanes3 out;
-  out.set(col);
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    PreNode& pre = *dst[k];
-    pre.color = out.lane(k);
-    pre.node = (u32)(id + 1) | bits[k];
-    pre.records = records >> k & 1;
-    pre.waiting = waiting[k];
-  }
+  // Each lane's node in two stores: `records` (a word: the bool and its
+  // padding) and the colour as one row, the record node and the waiting
+  // bits as one pair of words.
+  static_assert(__builtin_offsetof(PreNode, color) == __builtin_offsetof(PreNode, records) + 4 &&
+                    __builtin_offsetof(PreNode, waiting) == __builtin_offsetof(PreNode, node) + 4,
+                "PreNode's colour follows its records flag, its waiting bits its node");
+  f4 rc[4];
+  rows((f4)(lanes_of(records) & i4_of(1)), col.x, col.y, col.z, rc);
+  i4 node = i4_of(id + 1) | *(i4*)bits;
+  f4 nw[2] = {__builtin_ia32_unpcklps((f4)node, *(f4*)waiting),
+              __builtin_ia32_unpckhps((f4)node, *(f4*)waiting)};
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    if (have >> k & 1) {
+      char* pre = (char*)dst[k];
+      __builtin_memcpy(pre + __builtin_offsetof(PreNode, records), &rc[k], 16);
+      __builtin_memcpy(pre + __builtin_offsetof(PreNode, node),
+                       (const char*)&nw[k >> 1] + 8 * (k & 1), 8);
+    }
   return true;
 }
 

@@ -949,14 +949,15 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   for (int k = 0; k < 4; ++k)
     __builtin_memcpy(&root[k].waiting, &ws[k], 16);
   if (paths) {
-    alignas(16) u32 node[4];
-    *(i4*)node = (h.id + 1) | *(i4*)bits;
-    for (u32 m = lanes; m; m &= m - 1) {
-      int k = __builtin_ctz(m);
-      PathRecord& rec = paths[k];
-      rec.node[0] = node[k];
-      rec.count = 1;
-    }
+    // Each lane's record: count 1 (a word: the count and its padding) and
+    // its first node, id + 1 and the bits, as one pair of words.
+    static_assert(__builtin_offsetof(PathRecord, node) == 4, "PathRecord's nodes follow its count");
+    i4 node = (h.id + 1) | *(i4*)bits;
+    i4 cn[2] = {(i4)__builtin_ia32_unpcklps((f4)i4_of(1), (f4)node),
+                (i4)__builtin_ia32_unpckhps((f4)i4_of(1), (f4)node)};
+#pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k)
+      if (lanes >> k & 1) __builtin_memcpy(&paths[k], (const char*)&cn[k >> 1] + 8 * (k & 1), 8);
   }
   // The second level: the refracted children into a lone solid (second4()).
   u32 shaded = 0;

@@ -391,8 +391,9 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     i4 tir = glass ? sin2T > one : i4_of(0);
     alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
     *(f4*)fR = f4_of(mt.reflect) + (tir ? transmit : zero);
-    u32 castR = lane_bits((*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
-    u32 castT = glass ? lane_bits(~tir & (W * transmit >= f4_of(kMinRayWeight)) & live) : 0;
+    i4 castRL = (*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live;
+    i4 castTL = glass ? ~tir & (W * transmit >= f4_of(kMinRayWeight)) & live : i4_of(0);
+    u32 castR = lane_bits(castRL), castT = lane_bits(castTL);
     V4 R = D - N * (2.0f * dot(N, D));
     *(f4*)dR = dot(R, N);
     f4 offR = *(f4*)dR >= zero ? *(f4*)off : -*(f4*)off;
@@ -414,8 +415,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
               i4_of((i32)((u32)(id + 1) << kOnlyShift));
     i4 flatL = i4_of(-(i32)flat);
     i4 skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
-    *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (2 * depth + 3))) |
-                    (lanes_of(castT) & i4_of(1 << (2 * depth + 2)));
+    *(i4*)waiting = (castRL & i4_of(1 << (2 * depth + 3))) | (castTL & i4_of(1 << (2 * depth + 2)));
     ctx.stats.secondary +=
         (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
     if (castR) {
@@ -825,8 +825,10 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     i4 tir = glass & (sin2T > one);
     alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
     *(f4*)fR = reflect + (tir ? transmit : zero);
-    u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
-    castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
+    i4 castRL = (*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live;
+    i4 castTL = glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live;
+    u32 castR = lane_bits(castRL);
+    castT = lane_bits(castTL);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
     *(f4*)dR = dot(R, N);
     V4 oR = p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), T = D, oT = p;
@@ -852,8 +854,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
       *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
       *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
-      *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (kRootSlot + 1))) |
-                      (lanes_of(castT) & i4_of(1 << kRootSlot));
+      *(i4*)waiting = (castRL & i4_of(1 << (kRootSlot + 1))) | (castTL & i4_of(1 << kRootSlot));
       ctx.stats.secondary +=
           (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
     } else {

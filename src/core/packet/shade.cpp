@@ -274,7 +274,7 @@ light_term4(const Scene& s, const Light& light, const V4& lightOrg, const V4& N,
 // trace_tree shades it (the normal, the spawn of its children, the light
 // loop with its weight's cuts), stored in *dst[k]: its colour, record node,
 // whether it records, its children. Every lane's pointers are read (those
-// outside `have` repeat a lane of `have`'s: fill()); only the lanes of
+// outside `have` repeat a lane of `have`'s: second4()); only the lanes of
 // `have` are written.
 //
 // On a sphere the hits are found here: hit_sphere() (shapes.cpp, tMin 0,
@@ -519,7 +519,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
 // of the lanes `have` (tMin 0, from hit.t = kHuge): hit_frustum() in lanes
 // (frustum_lanes4(), packet/frustum.h), the lanes it does not mirror through
 // intersect_t(). True, with each lane's t, piece and local in dst[k]->hit,
-// where every lane's ray hits it. All four lanes' pointers are read (fill()).
+// where every lane's ray hits it. All four lanes' pointers are read (second4()).
 bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const dst[4], u32 have) {
   f4 a[4], b[4];
   rows(load4(&src[0]->ray.org.x), load4(&src[1]->ray.org.x), load4(&src[2]->ray.org.x),
@@ -549,17 +549,6 @@ bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const 
   return true;
 }
 
-// The lanes outside `have` take the first lane's pointers (shade_child4()
-// and frustum_hits4() read all four).
-inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
-  int first = __builtin_ctz(have);
-  for (u32 q = ~have & 15; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    src[k] = src[first];
-    dst[k] = dst[first];
-  }
-}
-
 // The refracted children (depth 2) of the lanes `have`, each into the lone
 // solid `id` (the lone-solid shortcut's bits): each one's hit by the tree's
 // own first step (that solid's intersect_t()), and where every lane's finds
@@ -570,19 +559,27 @@ inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
-  const Pending* src[4] = {nullptr, nullptr, nullptr, nullptr};
-  PreNode* dst[4] = {nullptr, nullptr, nullptr, nullptr};
+  const Pending* src[4];
+  PreNode* dst[4];
   const u32 only = (u32)(id + 1) << kOnlyShift;
   bool sphere = sh.kind == kSphere;
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    if (root[k].child[0].skip != only) return 0;
-    src[k] = &root[k].child[0];
-    dst[k] = &root[k].pre[0];
+  // Lane k's root: its own where it is in `have`, else the first lane's
+  // (shade_child4() and frustum_hits4() read all four pointers); the four
+  // lanes unrolled. The lanes outside `have`
+  // repeat a test of `have`'s; root[k].deep and .exit are read only for the
+  // lanes returned, so all four are written.
+  int first = __builtin_ctz(have), at[4];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    at[k] = have >> k & 1 ? k : first;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    if (root[at[k]].child[0].skip != only) return 0;
+    src[k] = &root[at[k]].child[0];
+    dst[k] = &root[at[k]].pre[0];
     root[k].deep = false;
     root[k].exit = 0;
   }
-  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
   } else {
@@ -592,22 +589,22 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   // The reflected children inside the solid (depth 3), where every lane has
   // one that the lone-solid test finds.
   const u32 reflected = 1u << (2 * 2 + 3);
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    PreNode& pre = root[k].pre[0];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    PreNode& pre = root[at[k]].pre[0];
     if (!(pre.waiting & reflected) || pre.child[1].skip != only) return have;
     src[k] = &pre.child[1];
-    dst[k] = &root[k].pre[1];
+    dst[k] = &root[at[k]].pre[1];
   }
-  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
   } else {
     if (!frustum_hits4(sh, src, dst, have)) return have;
     shade_child4<3, false>(ctx, src, dst, have, true, id, maxDepth);
   }
-  for (u32 q = have; q; q &= q - 1)
-    root[__builtin_ctz(q)].deep = true;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    root[k].deep = true;
   // The refracted children out of the solid (depth 3, after the reflected
   // ones: where every lane has one): found by find_hit(); the lanes that see
   // nothing become the tree's miss, the lanes that hit the first hitting
@@ -615,19 +612,19 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   // handed to the tree.
   const Scene& s = *ctx.scene;
   const u32 refracted = 1u << (2 * 2 + 2);
-  for (u32 q = have; q; q &= q - 1)
-    if (!(root[__builtin_ctz(q)].pre[0].waiting & refracted)) return have;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    if (!(root[at[k]].pre[0].waiting & refracted)) return have;
+    src[k] = &root[at[k]].pre[0].child[0];
+    dst[k] = &root[at[k]].pre[2];
+  }
   alignas(16) i32 outId[4] = {-1, -1, -1, -1};
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
-    const Pending& p = root[k].pre[0].child[0];
-    PreNode& out = root[k].pre[2];
-    outId[k] = out.id = find_hit(s, p.ray, p.skip, out.hit);
+    const Pending& p = *src[k];
+    outId[k] = dst[k]->id = find_hit(s, p.ray, p.skip, dst[k]->hit);
     root[k].exit = 1;
-    src[k] = &p;
-    dst[k] = &out;
   }
-  fill(have, src, dst);
   u32 miss = lane_bits(*(i4*)outId < i4_of(0)) & have;
   for (u32 q = miss; q; q &= q - 1) {
     // trace_tree's miss (depth 3, past glass): node 0, the background.

@@ -166,7 +166,8 @@ __attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 
 
 // cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
 // kSpecExp test cuts it (or N.h <= 0). I is the incident direction.
-__attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 roughness, f4 f0) {
+__attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, const V4& L, f4 roughness,
+                                            f4 f0) {
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 h = L - I;
   f4 nh = dot(N, h), m2 = roughness * roughness;

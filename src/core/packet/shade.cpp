@@ -164,15 +164,12 @@ __attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 
   return cut ? f4_of(0.0f) : specular * rt_pow4(VdotR, shininess);
 }
 
-// cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
-// kSpecExp test cuts it (or N.h <= 0). I is the incident direction.
-__attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, const V4& L, f4 roughness,
-                                            f4 f0) {
+// cook_torrance() (trace.cpp) in lanes past its kSpecExp test (cook_torrance4()):
+// h = L - I again, m2 = roughness^2 and the lanes cut given.
+__attribute__((noinline)) f4 cook_torrance4_rest(const V4& N, const V4& I, const V4& L, f4 m2,
+                                                 f4 f0, i4 cut) {
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 h = L - I;
-  f4 nh = dot(N, h), m2 = roughness * roughness;
-  i4 cut = ~(nh > zero) | (dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh));
-  if (!(~lane_bits(cut) & 15)) return zero;
   f4 hh = dot(h, h);
   V4 H = select(hh > f4_of(1e-30f), h * (1.0f / lane_sqrt(hh)), N); // normalize(h, N)
   f4 nH = dot(N, H);
@@ -190,6 +187,19 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, const V4& 
   D = c2 > f4_of(kCos2Min) ? D : zero;
   f4 r = F * D * G / NdotV;
   return cut ? zero : r;
+}
+
+// cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
+// kSpecExp test cuts it (or N.h <= 0). I is the incident direction. The
+// test inline (most calls cut every lane), the rest out of line.
+__attribute__((always_inline)) inline f4 cook_torrance4(const V4& N, const V4& I, const V4& L,
+                                                        f4 roughness, f4 f0) {
+  f4 zero = f4_of(0.0f);
+  V4 h = L - I;
+  f4 nh = dot(N, h), m2 = roughness * roughness;
+  i4 cut = ~(nh > zero) | (dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh));
+  if (!(~lane_bits(cut) & 15)) return zero;
+  return cook_torrance4_rest(N, I, L, m2, f0, cut);
 }
 
 // The lanes of `cand` whose shadow ray's one candidate (objects[k], the

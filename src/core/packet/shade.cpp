@@ -378,20 +378,17 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   V4 p = O + D * T4;
   V4 col = splat(s.ambient) * splat(mt.color);
   f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
-  alignas(16) float off[4];
-  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
-  V4 lightOrg = p + N * *(f4*)off;
+  f4 off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
+  V4 lightOrg = p + N * off;
   bool flat = sh.kind == kPlane || sh.kind == kTriangle;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
-  alignas(16) u32 range[4];
-  *(i4*)range =
-      front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
+  i4 range = front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
   u32 inside = closed_convex(sh) ? ~lane_bits(front) & have : 0;
   // The record's tests: recordable and records.
   i4 recordable = depth <= kRecordDepth ? W >= f4_of(kRecordWeight) : i4_of(0);
   u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
 
-  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
+  i4 waiting = i4_of(0);
   if (depth < maxDepth) {
     f4 transmit = f4_of(mt.transmit);
     bool glass = mt.transmit > 0;
@@ -400,43 +397,42 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass ? sin2T > one : i4_of(0);
-    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
-    *(f4*)fR = f4_of(mt.reflect) + (tir ? transmit : zero);
-    i4 castRL = (*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live;
+    f4 dT = zero, fR = f4_of(mt.reflect) + (tir ? transmit : zero);
+    i4 castRL = (fR > zero) & (W * fR >= f4_of(kMinRayWeight)) & live;
     i4 castTL = glass ? ~tir & (W * transmit >= f4_of(kMinRayWeight)) & live : i4_of(0);
     u32 castR = lane_bits(castRL), castT = lane_bits(castTL);
     V4 R = D - N * (2.0f * dot(N, D));
-    *(f4*)dR = dot(R, N);
-    f4 offR = *(f4*)dR >= zero ? *(f4*)off : -*(f4*)off;
+    f4 dR = dot(R, N);
+    f4 offR = dR >= zero ? off : -off;
     V4 T = D;
     f4 offT = zero;
     if (castT) {
       V4 t = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(t, t);
       T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
-      *(f4*)dT = dot(T, N);
-      offT = *(f4*)dT >= zero ? *(f4*)off : -*(f4*)off;
+      dT = dot(T, N);
+      offT = dT >= zero ? off : -off;
     }
     // The skip bits in lanes: the object where the ray leaves it for good
     // (leaves_for_good_dot(): a flat shape always, else front ? d > 0 : d <
     // 0), else the lone-solid shortcut's bits where the offset allows.
     i4 onlyL = i4_of(0);
     if (s.aloneMask & self)
-      onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
-              i4_of((i32)((u32)(id + 1) << kOnlyShift));
+      onlyL =
+          (off <= f4_of(0.5f * kAloneSlack * sh.size)) & i4_of((i32)((u32)(id + 1) << kOnlyShift));
     i4 flatL = i4_of(-(i32)flat);
-    i4 skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
-    *(i4*)waiting = (castRL & i4_of(1 << (2 * depth + 3))) | (castTL & i4_of(1 << (2 * depth + 2)));
+    i4 skR = flatL | (front ? dR > zero : dR < zero) ? i4_of((i32)self) : onlyL;
+    waiting = (castRL & i4_of(1 << (2 * depth + 3))) | (castTL & i4_of(1 << (2 * depth + 2)));
     ctx.stats.secondary +=
         (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
     if (castR) {
-      PendingRows rayR(p + N * offR, R, W * *(f4*)fR, skR);
+      PendingRows rayR(p + N * offR, R, W * fR, skR);
 #pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
         if (castR >> k & 1) rayR.put(k, dst[k]->child[1], pastGlass);
     }
     if (castT) {
-      i4 skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
+      i4 skT = flatL | (front ? dT > zero : dT < zero) ? i4_of((i32)self) : onlyL;
       PendingRows rayT(p + N * offT, T, W * transmit, skT);
 #pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
@@ -467,7 +463,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     if (cast) {
       V4 tv = {one, one, one};
       alignas(16) u32 objects[4];
-      *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
+      *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, range);
       u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & cast;
       ctx.stats.shadow += 0x4332322132212110ull >> 4 * cast & 15;
       // A lane inside the solid whose ray to a light outside its bound meets
@@ -513,8 +509,8 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   f4 rc[4];
   rows((f4)(lanes_of(records) & i4_of(1)), col.x, col.y, col.z, rc);
   i4 node = i4_of(id + 1) | *(i4*)bits;
-  f4 nw[2] = {__builtin_ia32_unpcklps((f4)node, *(f4*)waiting),
-              __builtin_ia32_unpckhps((f4)node, *(f4*)waiting)};
+  f4 nw[2] = {__builtin_ia32_unpcklps((f4)node, (f4)waiting),
+              __builtin_ia32_unpckhps((f4)node, (f4)waiting)};
 #pragma GCC unroll 4
   for (int k = 0; k < 4; ++k)
     if (have >> k & 1) {

@@ -811,12 +811,11 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   V4 p = splat(org) + D * T4;
   V4 col = splat(s.ambient) * mc;
   f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
-  alignas(16) float off[4];
-  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (size + T4); // spawn_offset
-  V4 lightOrg = p + N * *(f4*)off;
+  f4 off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (size + T4); // spawn_offset
+  V4 lightOrg = p + N * off;
 
   RootNode root[4];
-  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
+  i4 waiting = i4_of(0);
   u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
@@ -827,21 +826,20 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass & (sin2T > one);
-    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
-    *(f4*)fR = reflect + (tir ? transmit : zero);
-    i4 castRL = (*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live;
+    f4 dT = zero, fR = reflect + (tir ? transmit : zero);
+    i4 castRL = (fR > zero) & (one * fR >= f4_of(kMinRayWeight)) & live;
     i4 castTL = glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live;
     u32 castR = lane_bits(castRL);
     castT = lane_bits(castTL);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
-    *(f4*)dR = dot(R, N);
-    V4 oR = p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), T = D, oT = p;
+    f4 dR = dot(R, N);
+    V4 oR = p + N * (dR >= zero ? off : -off), T = D, oT = p;
     if (castT) {
       V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(a, a);
       T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
-      *(f4*)dT = dot(T, N);
-      oT = p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off);
+      dT = dot(T, N);
+      oT = p + N * (dT >= zero ? off : -off);
     }
     alignas(16) u32 skR[4] = {0, 0, 0, 0}, skT[4] = {0, 0, 0, 0};
     if (uniform) {
@@ -853,12 +851,12 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       u32 self = 1u << j;
       i4 onlyL = i4_of(0);
       if (s.aloneMask & self)
-        onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
-                i4_of((i32)((u32)(j + 1) << kOnlyShift));
+        onlyL =
+            (off <= f4_of(0.5f * kAloneSlack * sh.size)) & i4_of((i32)((u32)(j + 1) << kOnlyShift));
       i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
-      *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
-      *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
-      *(i4*)waiting = (castRL & i4_of(1 << (kRootSlot + 1))) | (castTL & i4_of(1 << kRootSlot));
+      *(i4*)skR = flatL | (front ? dR > zero : dR < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)skT = flatL | (front ? dT > zero : dT < zero) ? i4_of((i32)self) : onlyL;
+      waiting = (castRL & i4_of(1 << (kRootSlot + 1))) | (castTL & i4_of(1 << kRootSlot));
       ctx.stats.secondary +=
           (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
     } else {
@@ -884,7 +882,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     }
     // Every lane's rays stored (root[] is this call's: a lane's child is
     // read only where its waiting bit is set).
-    PendingRows rayR(oR, R, one * *(f4*)fR, *(i4*)skR);
+    PendingRows rayR(oR, R, one * fR, *(i4*)skR);
 #pragma GCC unroll 4
     for (int k = 0; k < 4; ++k)
       rayR.put(k, root[k].child[1], false);
@@ -949,7 +947,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
                 "RootNode's sum follows its waiting bits");
   V4 sum = V4{zero, zero, zero} + col * one;
   f4 ws[4];
-  rows((f4) * (i4*)waiting, sum.x, sum.y, sum.z, ws);
+  rows((f4)waiting, sum.x, sum.y, sum.z, ws);
 #pragma GCC unroll 4
   for (int k = 0; k < 4; ++k)
     __builtin_memcpy(&root[k].waiting, &ws[k], 16);

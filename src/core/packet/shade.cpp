@@ -821,11 +821,15 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   if (1 < maxDepth) {
     // Snell where the material transmits; the mirror ray everywhere.
     i4 glass = transmit > zero;
-    f4 eta = glass ? (front ? 1.0f / ior : ior) : one;
-    V4 negD = {-D.x, -D.y, -D.z};
-    f4 cosI = glass ? dot(N, negD) : one;
-    f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
-    i4 tir = glass & (sin2T > one);
+    f4 eta = one, cosI = one, sin2T = zero; // the lanes that do not transmit
+    i4 tir = i4_of(0);
+    if (lane_bits(glass)) {
+      eta = glass ? (front ? 1.0f / ior : ior) : one;
+      V4 negD = {-D.x, -D.y, -D.z};
+      cosI = glass ? dot(N, negD) : one;
+      sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
+      tir = glass & (sin2T > one);
+    }
     f4 dT = zero, fR = reflect + (tir ? transmit : zero);
     i4 castRL = (fR > zero) & (one * fR >= f4_of(kMinRayWeight)) & live;
     i4 castTL = glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live;

@@ -230,15 +230,29 @@ one_solid_shadows4(const Scene& s, int li, u32 cand, const u32* objects, Exiting
 // (code 3, no light: into shadowed).
 template <class Exits>
 __attribute__((always_inline)) inline void
-shadow_objects4(const Scene& s, int li, u32 cand, const Lanes3& lo, const V4& L, const float* dist,
-                const u32* objects, Exits exits, V4& tv, u32& shadowed, u32* bits) {
-  Lanes3 dirL, through;
-  dirL.set(L);
+shadow_objects4(const Scene& s, int li, u32 cand, const V4& lightOrg, const V4& L,
+                const float* dist, const u32* objects, Exits exits, V4& tv, u32& shadowed,
+                u32* bits) {
+  // Each lane's Ray (org, dir) from one transposed pair of rows.
+  struct alignas(16) RayRows {
+    Ray ray;
+    float pad[2];
+  } rr[4];
+  static_assert(sizeof(RayRows) == 32, "a Ray in two rows");
+  f4 lo[4], hi[4];
+  rows(lightOrg.x, lightOrg.y, lightOrg.z, L.x, lo);
+  rows(L.y, L.z, L.z, L.z, hi);
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    __builtin_memcpy(&rr[k], &lo[k], 16);
+    __builtin_memcpy((char*)&rr[k] + 16, &hi[k], 16);
+  }
+  Lanes3 through;
   through.set(tv);
   for (u32 q = cand; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     int code = 0;
-    Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code, exits(k));
+    Vec3 tr = shadow_objects(s, rr[k].ray, dist[k], objects[k], code, exits(k));
     through.v[0][k] = tr.x;
     through.v[1][k] = tr.y;
     through.v[2][k] = tr.z;
@@ -441,8 +455,6 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   }
 
   alignas(16) u32 bits[4] = {0, 0, 0, 0};
-  Lanes3 lo;
-  lo.set(lightOrg);
   f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
   f4 shininess = f4_of(mt.shininess);
   V4 mc = splat(mt.color);
@@ -491,7 +503,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
       }
       if (cand) {
         auto exits = [&](int k) { return (inside >> k & 1) && exitsLight ? self : 0u; };
-        shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
+        shadow_objects4(s, li, cand, lightOrg, L, dist, objects, exits, tv, shadowed, bits);
       }
       through = term * tv;
     }
@@ -903,8 +915,6 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // scalar shadow_objects() (a primary ray records: every lit term casts a
   // shadow ray).
   alignas(16) u32 bits[4] = {0, 0, 0, 0};
-  Lanes3 lo;
-  lo.set(lightOrg);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
     // The light's term unshadowed (trace_tree's `lit`).
@@ -934,7 +944,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
         auto exits = [&](int k) {
           return (inside >> k & 1) && s.lightC[li][id[k]] > 0 ? 1u << id[k] : 0u;
         };
-        shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
+        shadow_objects4(s, li, cand, lightOrg, L, dist, objects, exits, tv, shadowed, bits);
       }
       through = term * tv;
     }

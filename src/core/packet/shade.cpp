@@ -80,6 +80,24 @@ struct PendingRows {
   }
 };
 
+// Four lanes' rays as Rays: rr[k].ray is lane k's (org, dir), each from
+// one transposed pair of rows (two stores a lane, no scalar gather).
+struct alignas(16) RayRow {
+  Ray ray;
+  float pad[2];
+};
+static_assert(sizeof(RayRow) == 32, "a Ray in two rows");
+__attribute__((always_inline)) inline void ray_rows(const V4& o, const V4& d, RayRow rr[4]) {
+  f4 lo[4], hi[4];
+  rows(o.x, o.y, o.z, d.x, lo);
+  rows(d.y, d.z, d.z, d.z, hi);
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    __builtin_memcpy(&rr[k], &lo[k], 16);
+    __builtin_memcpy((char*)&rr[k] + 16, &hi[k], 16);
+  }
+}
+
 // A V4 stored lane by lane: v[c][k] is component c of lane k.
 struct Lanes3 {
   alignas(16) float v[3][4];
@@ -233,20 +251,8 @@ __attribute__((always_inline)) inline void
 shadow_objects4(const Scene& s, int li, u32 cand, const V4& lightOrg, const V4& L,
                 const float* dist, const u32* objects, Exits exits, V4& tv, u32& shadowed,
                 u32* bits) {
-  // Each lane's Ray (org, dir) from one transposed pair of rows.
-  struct alignas(16) RayRows {
-    Ray ray;
-    float pad[2];
-  } rr[4];
-  static_assert(sizeof(RayRows) == 32, "a Ray in two rows");
-  f4 lo[4], hi[4];
-  rows(lightOrg.x, lightOrg.y, lightOrg.z, L.x, lo);
-  rows(L.y, L.z, L.z, L.z, hi);
-#pragma GCC unroll 4
-  for (int k = 0; k < 4; ++k) {
-    __builtin_memcpy(&rr[k], &lo[k], 16);
-    __builtin_memcpy((char*)&rr[k] + 16, &hi[k], 16);
-  }
+  RayRow rr[4];
+  ray_rows(lightOrg, L, rr);
   Lanes3 through;
   through.set(tv);
   for (u32 q = cand; q; q &= q - 1) {
@@ -772,14 +778,14 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
         front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
     inside = closed_convex(sh) ? ~lane_bits(front) & 15 : 0;
   } else {
-    Lanes3 dirs;
-    dirs.set(D);
+    RayRow rr[4];
+    ray_rows(splat(org), D, rr);
     for (u32 q = lanes; q; q &= q - 1) {
       int k = __builtin_ctz(q);
       hit[k].t = h.t[k];
       hit[k].piece = (u8)h.piece[k];
       hit[k].local = h.local[k];
-      hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
+      hit_normal(s.objects[id[k]].shape, rr[k].ray, hit[k]);
     }
     // Each lane's object, material and hit as columns (the lanes outside
     // `lanes` repeat the first lane's, so that every lane computes with

@@ -558,13 +558,14 @@ bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const 
   i4 piece = i4_of(0);
   FrustumLanes fl = frustum_lanes4(sh, terms, dir, have, t, piece, local);
   if ((fl.hit | fl.rest) != have) return false;
-  for (u32 q = fl.hit; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    Hit& hit = dst[k]->hit;
-    hit.t = t[k];
-    hit.piece = (u8)piece[k];
-    hit.local = local[k];
-  }
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    if (fl.hit >> k & 1) {
+      Hit& hit = dst[k]->hit;
+      hit.t = t[k];
+      hit.piece = (u8)piece[k];
+      hit.local = local[k];
+    }
   for (u32 q = fl.rest; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     Hit& hit = dst[k]->hit;

@@ -690,8 +690,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   Hit hit[4];
   V4 D = {dir[0], dir[1], dir[2]};
   int first = __builtin_ctz(lanes);
-  const Object* obj[4];
-  alignas(16) i32 frontOf[4];
+  const Object* obj[4];       // mixed packets: each lane's object
+  alignas(16) i32 frontOf[4]; // mixed packets: each lane's front
   alignas(16) u32 range[4];
   u32 inside = 0;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
@@ -723,8 +723,6 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     // The lanes outside `lanes` repeat the first lane's hit.
     T4 = held ? h.t : f4_of(h.t[first]);
     i4 piece = held ? h.piece : i4_of(h.piece[first]);
-    for (int k = 0; k < 4; ++k)
-      obj[k] = &o0;
     const Shape& sh = o0.shape;
     V4 A = splat(sh.a);
     u32 self = 1u << id[first];
@@ -773,7 +771,6 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
         front[k] = -(i32)hit[k].front;
       }
     }
-    *(i4*)frontOf = front;
     bool flat = kind0 == kPlane || kind0 == kTriangle;
     *(i4*)range =
         front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);

@@ -591,9 +591,9 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   bool sphere = sh.kind == kSphere;
   // Lane k's root: its own where it is in `have`, else the first lane's
   // (shade_child4() and frustum_hits4() read all four pointers); the four
-  // lanes unrolled. The lanes outside `have`
-  // repeat a test of `have`'s; root[k].deep and .exit are read only for the
-  // lanes returned, so all four are written.
+  // lanes unrolled. The lanes outside `have` repeat a test of `have`'s;
+  // root[k].deep and .exit are read only for the lanes returned, so all
+  // four are written.
   int first = __builtin_ctz(have), at[4];
 #pragma GCC unroll 4
   for (int k = 0; k < 4; ++k)

@@ -41,6 +41,20 @@ void compare4(const float x[4], const float y[4], PowMismatch& m) {
   }
 }
 
+// lanes_of() (packet/lanes.h, one compare since round thirteen) against its
+// definition: lane k all ones where bit k of the argument is set, else zero,
+// for every nibble and with bits above the fourth set; lane_bits() inverts it.
+TEST(Shade4, LanesOfSetsLaneKExactlyWhereBitKIs) {
+  int wrong = 0;
+  for (u32 bits = 0; bits < 64; ++bits) {
+    i4 m = lanes_of(bits);
+    for (int k = 0; k < 4; ++k)
+      wrong += m[k] != ((bits >> k & 1) ? -1 : 0);
+    wrong += lane_bits(m) != (bits & 15);
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 TEST(Shade4, PowLog2Exp2MatchTheScalarBitForBitOnSeededInputs) {
   std::mt19937 rng(2026);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), expo(1.0f, 400.0f);

@@ -21,5 +21,5 @@ inline u32 lane_bits(i4 m) { return (u32)__builtin_ia32_movmskps((f4)m); }
 // Lane k set where bit k of `bits` is.
 inline i4 lanes_of(u32 bits) {
   i4 k = {1, 2, 4, 8};
-  return (i4_of((i32)bits) & k) != 0;
+  return (i4_of((i32)bits) & k) == k; // one bit each: != 0 in one compare
 }

@@ -60,29 +60,43 @@ inline void columns(const float* const r[4], f4 out[4]) {
   rows(load4(r[0]), load4(r[1]), load4(r[2]), load4(r[3]), out);
 }
 
-// Each lane's Pending ray and weight (its first 28 bytes, Ray then weight)
-// as two rows of four floats: lane k's at row[2 k], row[2 k + 1].
+// Each lane's waiting ray (origin o, direction d, weight w, skip bits) as
+// the first 32 bytes of its Pending (Ray, weight, skip): two rows of four
+// floats, lane k's lo[k] (org, dir.x) and hi[k] (dir.y, dir.z, weight,
+// skip), stored by put() with its pastGlass: three stores a lane.
 static_assert(sizeof(Ray) == 24 && __builtin_offsetof(Pending, weight) == 24 &&
                   __builtin_offsetof(Pending, skip) == 28,
               "Pending starts with its ray, weight and skip");
 struct PendingRows {
-  alignas(16) f4 row[8];
-  void set(V4 o, V4 d, f4 w) {
-    f4 lo[4], hi[4];
+  f4 lo[4], hi[4];
+  PendingRows(V4 o, V4 d, f4 w, i4 skip) {
     rows(o.x, o.y, o.z, d.x, lo);
-    rows(d.y, d.z, w, w, hi);
-    for (int k = 0; k < 4; ++k) {
-      row[2 * k] = lo[k];
-      row[2 * k + 1] = hi[k];
-    }
+    rows(d.y, d.z, w, (f4)skip, hi);
   }
-  // Lane k's as a Pending with the given skip and pastGlass.
-  void put(int k, Pending& p, u32 skip, bool glass) const {
-    __builtin_memcpy(&p, &row[2 * k], 32);
-    p.skip = skip;
+  void put(int k, Pending& p, bool glass) const {
+    __builtin_memcpy(&p, &lo[k], 16);
+    __builtin_memcpy((char*)&p + 16, &hi[k], 16);
     p.pastGlass = glass;
   }
 };
+
+// Four lanes' rays as Rays: rr[k].ray is lane k's (org, dir), each from
+// one transposed pair of rows (two stores a lane, no scalar gather).
+struct alignas(16) RayRow {
+  Ray ray;
+  float pad[2];
+};
+static_assert(sizeof(RayRow) == 32, "a Ray in two rows");
+__attribute__((always_inline)) inline void ray_rows(const V4& o, const V4& d, RayRow rr[4]) {
+  f4 lo[4], hi[4];
+  rows(o.x, o.y, o.z, d.x, lo);
+  rows(d.y, d.z, d.z, d.z, hi);
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    __builtin_memcpy(&rr[k], &lo[k], 16);
+    __builtin_memcpy((char*)&rr[k] + 16, &hi[k], 16);
+  }
+}
 
 // A V4 stored lane by lane: v[c][k] is component c of lane k.
 struct Lanes3 {
@@ -168,14 +182,12 @@ __attribute__((noinline)) f4 phong_spec(f4 VdotR, f4 shininess, f4 specular, i4 
   return cut ? f4_of(0.0f) : specular * rt_pow4(VdotR, shininess);
 }
 
-// cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
-// kSpecExp test cuts it (or N.h <= 0). I is the incident direction.
-__attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 roughness, f4 f0) {
+// cook_torrance() (trace.cpp) in lanes past its kSpecExp test (cook_torrance4()):
+// h = L - I again, m2 = roughness^2 and the lanes cut given.
+__attribute__((noinline)) f4 cook_torrance4_rest(const V4& N, const V4& I, const V4& L, f4 m2,
+                                                 f4 f0, i4 cut) {
   f4 zero = f4_of(0.0f), one = f4_of(1.0f);
   V4 h = L - I;
-  f4 nh = dot(N, h), m2 = roughness * roughness;
-  i4 cut = ~(nh > zero) | (dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh));
-  if (!(~lane_bits(cut) & 15)) return zero;
   f4 hh = dot(h, h);
   V4 H = select(hh > f4_of(1e-30f), h * (1.0f / lane_sqrt(hh)), N); // normalize(h, N)
   f4 nH = dot(N, H);
@@ -193,6 +205,19 @@ __attribute__((noinline)) f4 cook_torrance4(const V4& N, const V4& I, V4 L, f4 r
   D = c2 > f4_of(kCos2Min) ? D : zero;
   f4 r = F * D * G / NdotV;
   return cut ? zero : r;
+}
+
+// cook_torrance() (trace.cpp) in lanes: F D G / (N.V), 0 where the
+// kSpecExp test cuts it (or N.h <= 0). I is the incident direction. The
+// test inline (most calls cut every lane), the rest out of line.
+__attribute__((always_inline)) inline f4 cook_torrance4(const V4& N, const V4& I, const V4& L,
+                                                        f4 roughness, f4 f0) {
+  f4 zero = f4_of(0.0f);
+  V4 h = L - I;
+  f4 nh = dot(N, h), m2 = roughness * roughness;
+  i4 cut = ~(nh > zero) | (dot(h, h) - nh * nh > kSpecExp * m2 * (nh * nh));
+  if (!(~lane_bits(cut) & 15)) return zero;
+  return cook_torrance4_rest(N, I, L, m2, f0, cut);
 }
 
 // The lanes of `cand` whose shadow ray's one candidate (objects[k], the
@@ -223,15 +248,17 @@ one_solid_shadows4(const Scene& s, int li, u32 cand, const u32* objects, Exiting
 // (code 3, no light: into shadowed).
 template <class Exits>
 __attribute__((always_inline)) inline void
-shadow_objects4(const Scene& s, int li, u32 cand, const Lanes3& lo, const V4& L, const float* dist,
-                const u32* objects, Exits exits, V4& tv, u32& shadowed, u32* bits) {
-  Lanes3 dirL, through;
-  dirL.set(L);
+shadow_objects4(const Scene& s, int li, u32 cand, const V4& lightOrg, const V4& L,
+                const float* dist, const u32* objects, Exits exits, V4& tv, u32& shadowed,
+                u32* bits) {
+  RayRow rr[4];
+  ray_rows(lightOrg, L, rr);
+  Lanes3 through;
   through.set(tv);
   for (u32 q = cand; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     int code = 0;
-    Vec3 tr = shadow_objects(s, Ray{lo.lane(k), dirL.lane(k)}, dist[k], objects[k], code, exits(k));
+    Vec3 tr = shadow_objects(s, rr[k].ray, dist[k], objects[k], code, exits(k));
     through.v[0][k] = tr.x;
     through.v[1][k] = tr.y;
     through.v[2][k] = tr.z;
@@ -278,7 +305,7 @@ light_term4(const Scene& s, const Light& light, const V4& lightOrg, const V4& N,
 // trace_tree shades it (the normal, the spawn of its children, the light
 // loop with its weight's cuts), stored in *dst[k]: its colour, record node,
 // whether it records, its children. Every lane's pointers are read (those
-// outside `have` repeat a lane of `have`'s: fill()); only the lanes of
+// outside `have` repeat a lane of `have`'s: second4()); only the lanes of
 // `have` are written.
 //
 // On a sphere the hits are found here: hit_sphere() (shapes.cpp, tMin 0,
@@ -371,20 +398,17 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   V4 p = O + D * T4;
   V4 col = splat(s.ambient) * splat(mt.color);
   f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
-  alignas(16) float off[4];
-  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
-  V4 lightOrg = p + N * *(f4*)off;
+  f4 off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (f4_of(sh.size) + T4);
+  V4 lightOrg = p + N * off;
   bool flat = sh.kind == kPlane || sh.kind == kTriangle;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
-  alignas(16) u32 range[4];
-  *(i4*)range =
-      front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
+  i4 range = front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
   u32 inside = closed_convex(sh) ? ~lane_bits(front) & have : 0;
   // The record's tests: recordable and records.
   i4 recordable = depth <= kRecordDepth ? W >= f4_of(kRecordWeight) : i4_of(0);
   u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
 
-  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
+  i4 waiting = i4_of(0);
   if (depth < maxDepth) {
     f4 transmit = f4_of(mt.transmit);
     bool glass = mt.transmit > 0;
@@ -393,49 +417,50 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     f4 cosI = glass ? dot(N, negD) : one;
     f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
     i4 tir = glass ? sin2T > one : i4_of(0);
-    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
-    *(f4*)fR = f4_of(mt.reflect) + (tir ? transmit : zero);
-    u32 castR = lane_bits((*(f4*)fR > zero) & (W * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
-    u32 castT = glass ? lane_bits(~tir & (W * transmit >= f4_of(kMinRayWeight)) & live) : 0;
+    f4 dT = zero, fR = f4_of(mt.reflect) + (tir ? transmit : zero);
+    i4 castRL = (fR > zero) & (W * fR >= f4_of(kMinRayWeight)) & live;
+    i4 castTL = glass ? ~tir & (W * transmit >= f4_of(kMinRayWeight)) & live : i4_of(0);
+    u32 castR = lane_bits(castRL), castT = lane_bits(castTL);
     V4 R = D - N * (2.0f * dot(N, D));
-    *(f4*)dR = dot(R, N);
-    PendingRows rayR, rayT;
-    if (castR) rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, W * *(f4*)fR);
+    f4 dR = dot(R, N);
+    f4 offR = dR >= zero ? off : -off;
+    V4 T = D;
+    f4 offT = zero;
     if (castT) {
       V4 t = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(t, t);
-      V4 T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
-      *(f4*)dT = dot(T, N);
-      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, W * transmit);
+      T = select(len2 > f4_of(1e-30f), t * (1.0f / lane_sqrt(len2)), D);
+      dT = dot(T, N);
+      offT = dT >= zero ? off : -off;
     }
     // The skip bits in lanes: the object where the ray leaves it for good
     // (leaves_for_good_dot(): a flat shape always, else front ? d > 0 : d <
     // 0), else the lone-solid shortcut's bits where the offset allows.
     i4 onlyL = i4_of(0);
     if (s.aloneMask & self)
-      onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
-              i4_of((i32)((u32)(id + 1) << kOnlyShift));
+      onlyL =
+          (off <= f4_of(0.5f * kAloneSlack * sh.size)) & i4_of((i32)((u32)(id + 1) << kOnlyShift));
     i4 flatL = i4_of(-(i32)flat);
-    alignas(16) u32 skR[4], skT[4];
-    *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
-    *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
-    *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (2 * depth + 3))) |
-                    (lanes_of(castT) & i4_of(1 << (2 * depth + 2)));
+    i4 skR = flatL | (front ? dR > zero : dR < zero) ? i4_of((i32)self) : onlyL;
+    waiting = (castRL & i4_of(1 << (2 * depth + 3))) | (castTL & i4_of(1 << (2 * depth + 2)));
     ctx.stats.secondary +=
         (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
-    for (u32 q = castR; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      rayR.put(k, dst[k]->child[1], skR[k], pastGlass);
+    if (castR) {
+      PendingRows rayR(p + N * offR, R, W * fR, skR);
+#pragma GCC unroll 4
+      for (int k = 0; k < 4; ++k)
+        if (castR >> k & 1) rayR.put(k, dst[k]->child[1], pastGlass);
     }
-    for (u32 q = castT; q; q &= q - 1) {
-      int k = __builtin_ctz(q);
-      rayT.put(k, dst[k]->child[0], skT[k], true);
+    if (castT) {
+      i4 skT = flatL | (front ? dT > zero : dT < zero) ? i4_of((i32)self) : onlyL;
+      PendingRows rayT(p + N * offT, T, W * transmit, skT);
+#pragma GCC unroll 4
+      for (int k = 0; k < 4; ++k)
+        if (castT >> k & 1) rayT.put(k, dst[k]->child[0], true);
     }
   }
 
   alignas(16) u32 bits[4] = {0, 0, 0, 0};
-  Lanes3 lo;
-  lo.set(lightOrg);
   f4 diffuse = f4_of(mt.diffuse), specular = f4_of(mt.specular);
   f4 shininess = f4_of(mt.shininess);
   V4 mc = splat(mt.color);
@@ -452,10 +477,11 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
     f4 big = max4(lane_abs(term.x), max4(lane_abs(term.y), lane_abs(term.z)));
     u32 cast = lit & lane_bits(recordable | (W * big >= f4_of(kShadowSkip)));
     u32 shadowed = 0;
-    V4 tv = {one, one, one};
+    V4 through = term; // term * transmittance: term where no ray meets a bound (term * 1)
     if (cast) {
+      V4 tv = {one, one, one};
       alignas(16) u32 objects[4];
-      *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, *(i4*)range);
+      *(i4*)objects = shadow_mask4(s, li, L.x, L.y, L.z, *(f4*)dist, range);
       u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & cast;
       ctx.stats.shadow += 0x4332322132212110ull >> 4 * cast & 15;
       // A lane inside the solid whose ray to a light outside its bound meets
@@ -483,24 +509,34 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
       }
       if (cand) {
         auto exits = [&](int k) { return (inside >> k & 1) && exitsLight ? self : 0u; };
-        shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
+        shadow_objects4(s, li, cand, lightOrg, L, dist, objects, exits, tv, shadowed, bits);
       }
+      through = term * tv;
     }
     i4 add = lanes_of(lit & ~shadowed);
-    col = select(add, col + term * tv, col);
+    col = select(add, col + through, col);
     *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
                   i4_of((i32)(4u << (5 + 3 * li)));
   }
-  Lanes3 out;
-  out.set(col);
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    PreNode& pre = *dst[k];
-    pre.color = out.lane(k);
-    pre.node = (u32)(id + 1) | bits[k];
-    pre.records = records >> k & 1;
-    pre.waiting = waiting[k];
-  }
+  // Each lane's node in two stores: `records` (a word: the bool and its
+  // padding) and the colour as one row, the record node and the waiting
+  // bits as one pair of words.
+  static_assert(__builtin_offsetof(PreNode, color) == __builtin_offsetof(PreNode, records) + 4 &&
+                    __builtin_offsetof(PreNode, waiting) == __builtin_offsetof(PreNode, node) + 4,
+                "PreNode's colour follows its records flag, its waiting bits its node");
+  f4 rc[4];
+  rows((f4)(lanes_of(records) & i4_of(1)), col.x, col.y, col.z, rc);
+  i4 node = i4_of(id + 1) | *(i4*)bits;
+  f4 nw[2] = {__builtin_ia32_unpcklps((f4)node, (f4)waiting),
+              __builtin_ia32_unpckhps((f4)node, (f4)waiting)};
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    if (have >> k & 1) {
+      char* pre = (char*)dst[k];
+      __builtin_memcpy(pre + __builtin_offsetof(PreNode, records), &rc[k], 16);
+      __builtin_memcpy(pre + __builtin_offsetof(PreNode, node),
+                       (const char*)&nw[k >> 1] + 8 * (k & 1), 8);
+    }
   return true;
 }
 
@@ -508,7 +544,7 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
 // of the lanes `have` (tMin 0, from hit.t = kHuge): hit_frustum() in lanes
 // (frustum_lanes4(), packet/frustum.h), the lanes it does not mirror through
 // intersect_t(). True, with each lane's t, piece and local in dst[k]->hit,
-// where every lane's ray hits it. All four lanes' pointers are read (fill()).
+// where every lane's ray hits it. All four lanes' pointers are read (second4()).
 bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const dst[4], u32 have) {
   f4 a[4], b[4];
   rows(load4(&src[0]->ray.org.x), load4(&src[1]->ray.org.x), load4(&src[2]->ray.org.x),
@@ -522,13 +558,14 @@ bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const 
   i4 piece = i4_of(0);
   FrustumLanes fl = frustum_lanes4(sh, terms, dir, have, t, piece, local);
   if ((fl.hit | fl.rest) != have) return false;
-  for (u32 q = fl.hit; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    Hit& hit = dst[k]->hit;
-    hit.t = t[k];
-    hit.piece = (u8)piece[k];
-    hit.local = local[k];
-  }
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    if (fl.hit >> k & 1) {
+      Hit& hit = dst[k]->hit;
+      hit.t = t[k];
+      hit.piece = (u8)piece[k];
+      hit.local = local[k];
+    }
   for (u32 q = fl.rest; q; q &= q - 1) {
     int k = __builtin_ctz(q);
     Hit& hit = dst[k]->hit;
@@ -536,17 +573,6 @@ bool frustum_hits4(const Shape& sh, const Pending* const src[4], PreNode* const 
     if (!intersect_t(sh, src[k]->ray, 0.0f, hit)) return false;
   }
   return true;
-}
-
-// The lanes outside `have` take the first lane's pointers (shade_child4()
-// and frustum_hits4() read all four).
-inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
-  int first = __builtin_ctz(have);
-  for (u32 q = ~have & 15; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    src[k] = src[first];
-    dst[k] = dst[first];
-  }
 }
 
 // The refracted children (depth 2) of the lanes `have`, each into the lone
@@ -559,19 +585,27 @@ inline void fill(u32 have, const Pending* src[4], PreNode* dst[4]) {
 __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 have, int id,
                                       int maxDepth) {
   const Shape& sh = ctx.scene->objects[id].shape;
-  const Pending* src[4] = {nullptr, nullptr, nullptr, nullptr};
-  PreNode* dst[4] = {nullptr, nullptr, nullptr, nullptr};
+  const Pending* src[4];
+  PreNode* dst[4];
   const u32 only = (u32)(id + 1) << kOnlyShift;
   bool sphere = sh.kind == kSphere;
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    if (root[k].child[0].skip != only) return 0;
-    src[k] = &root[k].child[0];
-    dst[k] = &root[k].pre[0];
+  // Lane k's root: its own where it is in `have`, else the first lane's
+  // (shade_child4() and frustum_hits4() read all four pointers); the four
+  // lanes unrolled. The lanes outside `have` repeat a test of `have`'s;
+  // root[k].deep and .exit are read only for the lanes returned, so all
+  // four are written.
+  int first = __builtin_ctz(have), at[4];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    at[k] = have >> k & 1 ? k : first;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    if (root[at[k]].child[0].skip != only) return 0;
+    src[k] = &root[at[k]].child[0];
+    dst[k] = &root[at[k]].pre[0];
     root[k].deep = false;
     root[k].exit = 0;
   }
-  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<2, true>(ctx, src, dst, have, true, id, maxDepth)) return 0;
   } else {
@@ -581,22 +615,22 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   // The reflected children inside the solid (depth 3), where every lane has
   // one that the lone-solid test finds.
   const u32 reflected = 1u << (2 * 2 + 3);
-  for (u32 q = have; q; q &= q - 1) {
-    int k = __builtin_ctz(q);
-    PreNode& pre = root[k].pre[0];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    PreNode& pre = root[at[k]].pre[0];
     if (!(pre.waiting & reflected) || pre.child[1].skip != only) return have;
     src[k] = &pre.child[1];
-    dst[k] = &root[k].pre[1];
+    dst[k] = &root[at[k]].pre[1];
   }
-  fill(have, src, dst);
   if (sphere) {
     if (!shade_child4<3, true>(ctx, src, dst, have, true, id, maxDepth)) return have;
   } else {
     if (!frustum_hits4(sh, src, dst, have)) return have;
     shade_child4<3, false>(ctx, src, dst, have, true, id, maxDepth);
   }
-  for (u32 q = have; q; q &= q - 1)
-    root[__builtin_ctz(q)].deep = true;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    root[k].deep = true;
   // The refracted children out of the solid (depth 3, after the reflected
   // ones: where every lane has one): found by find_hit(); the lanes that see
   // nothing become the tree's miss, the lanes that hit the first hitting
@@ -604,19 +638,19 @@ __attribute__((noinline)) u32 second4(TraceContext& ctx, RootNode root[4], u32 h
   // handed to the tree.
   const Scene& s = *ctx.scene;
   const u32 refracted = 1u << (2 * 2 + 2);
-  for (u32 q = have; q; q &= q - 1)
-    if (!(root[__builtin_ctz(q)].pre[0].waiting & refracted)) return have;
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k) {
+    if (!(root[at[k]].pre[0].waiting & refracted)) return have;
+    src[k] = &root[at[k]].pre[0].child[0];
+    dst[k] = &root[at[k]].pre[2];
+  }
   alignas(16) i32 outId[4] = {-1, -1, -1, -1};
   for (u32 q = have; q; q &= q - 1) {
     int k = __builtin_ctz(q);
-    const Pending& p = root[k].pre[0].child[0];
-    PreNode& out = root[k].pre[2];
-    outId[k] = out.id = find_hit(s, p.ray, p.skip, out.hit);
+    const Pending& p = *src[k];
+    outId[k] = dst[k]->id = find_hit(s, p.ray, p.skip, dst[k]->hit);
     root[k].exit = 1;
-    src[k] = &p;
-    dst[k] = &out;
   }
-  fill(have, src, dst);
   u32 miss = lane_bits(*(i4*)outId < i4_of(0)) & have;
   for (u32 q = miss; q; q &= q - 1) {
     // trace_tree's miss (depth 3, past glass): node 0, the background.
@@ -656,8 +690,8 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   Hit hit[4];
   V4 D = {dir[0], dir[1], dir[2]};
   int first = __builtin_ctz(lanes);
-  const Object* obj[4];
-  alignas(16) i32 frontOf[4];
+  const Object* obj[4];       // mixed packets: each lane's object
+  alignas(16) i32 frontOf[4]; // mixed packets: each lane's front
   alignas(16) u32 range[4];
   u32 inside = 0;
   u32 foreground = s.numForeground >= 32 ? ~0u : (1u << s.numForeground) - 1;
@@ -689,8 +723,6 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     // The lanes outside `lanes` repeat the first lane's hit.
     T4 = held ? h.t : f4_of(h.t[first]);
     i4 piece = held ? h.piece : i4_of(h.piece[first]);
-    for (int k = 0; k < 4; ++k)
-      obj[k] = &o0;
     const Shape& sh = o0.shape;
     V4 A = splat(sh.a);
     u32 self = 1u << id[first];
@@ -739,20 +771,19 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
         front[k] = -(i32)hit[k].front;
       }
     }
-    *(i4*)frontOf = front;
     bool flat = kind0 == kPlane || kind0 == kTriangle;
     *(i4*)range =
         front | i4_of(-(i32)flat) ? i4_of((i32)(foreground & ~self)) : i4_of((i32)foreground);
     inside = closed_convex(sh) ? ~lane_bits(front) & 15 : 0;
   } else {
-    Lanes3 dirs;
-    dirs.set(D);
+    RayRow rr[4];
+    ray_rows(splat(org), D, rr);
     for (u32 q = lanes; q; q &= q - 1) {
       int k = __builtin_ctz(q);
       hit[k].t = h.t[k];
       hit[k].piece = (u8)h.piece[k];
       hit[k].local = h.local[k];
-      hit_normal(s.objects[id[k]].shape, Ray{org, dirs.lane(k)}, hit[k]);
+      hit_normal(s.objects[id[k]].shape, rr[k].ray, hit[k]);
     }
     // Each lane's object, material and hit as columns (the lanes outside
     // `lanes` repeat the first lane's, so that every lane computes with
@@ -796,37 +827,41 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   V4 p = splat(org) + D * T4;
   V4 col = splat(s.ambient) * mc;
   f4 ax = lane_abs(p.x), ay = lane_abs(p.y), az = lane_abs(p.z);
-  alignas(16) float off[4];
-  *(f4*)off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (size + T4); // spawn_offset
-  V4 lightOrg = p + N * *(f4*)off;
+  f4 off = kSpawnPos * max4(ax, max4(ay, az)) + kSpawnRel * (size + T4); // spawn_offset
+  V4 lightOrg = p + N * off;
 
   RootNode root[4];
-  alignas(16) u32 waiting[4] = {0, 0, 0, 0};
+  i4 waiting = i4_of(0);
   u32 castT = 0; // the lanes with a refracted child
   int maxDepth = s.maxDepth < kMaxTraceDepth ? s.maxDepth : kMaxTraceDepth;
   if (1 < maxDepth) {
     // Snell where the material transmits; the mirror ray everywhere.
     i4 glass = transmit > zero;
-    f4 eta = glass ? (front ? 1.0f / ior : ior) : one;
-    V4 negD = {-D.x, -D.y, -D.z};
-    f4 cosI = glass ? dot(N, negD) : one;
-    f4 sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
-    i4 tir = glass & (sin2T > one);
-    alignas(16) float fR[4], dR[4], dT[4] = {0, 0, 0, 0};
-    *(f4*)fR = reflect + (tir ? transmit : zero);
-    u32 castR = lane_bits((*(f4*)fR > zero) & (one * *(f4*)fR >= f4_of(kMinRayWeight)) & live);
-    castT = lane_bits(glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live);
+    f4 eta = one, cosI = one, sin2T = zero; // the lanes that do not transmit
+    i4 tir = i4_of(0);
+    if (lane_bits(glass)) {
+      eta = glass ? (front ? 1.0f / ior : ior) : one;
+      V4 negD = {-D.x, -D.y, -D.z};
+      cosI = glass ? dot(N, negD) : one;
+      sin2T = glass ? eta * eta * (1.0f - cosI * cosI) : zero;
+      tir = glass & (sin2T > one);
+    }
+    f4 dT = zero, fR = reflect + (tir ? transmit : zero);
+    i4 castRL = (fR > zero) & (one * fR >= f4_of(kMinRayWeight)) & live;
+    i4 castTL = glass & ~tir & (one * transmit >= f4_of(kMinRayWeight)) & live;
+    u32 castR = lane_bits(castRL);
+    castT = lane_bits(castTL);
     V4 R = D - N * (2.0f * dot(N, D)); // reflect(): I - N (2 N.I)
-    *(f4*)dR = dot(R, N);
-    PendingRows rayR, rayT;
-    rayR.set(p + N * (*(f4*)dR >= zero ? *(f4*)off : -*(f4*)off), R, one * *(f4*)fR);
+    f4 dR = dot(R, N);
+    V4 oR = p + N * (dR >= zero ? off : -off), T = D, oT = p;
     if (castT) {
       V4 a = D * eta + N * (eta * cosI - lane_sqrt(1.0f - sin2T));
       f4 len2 = dot(a, a);
-      V4 T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
-      *(f4*)dT = dot(T, N);
-      rayT.set(p + N * (*(f4*)dT >= zero ? *(f4*)off : -*(f4*)off), T, one * transmit);
+      T = select(len2 > f4_of(1e-30f), a * (1.0f / lane_sqrt(len2)), D); // normalize(a, dir)
+      dT = dot(T, N);
+      oT = p + N * (dT >= zero ? off : -off);
     }
+    alignas(16) u32 skR[4] = {0, 0, 0, 0}, skT[4] = {0, 0, 0, 0};
     if (uniform) {
       // One object in every lane: the skip bits (leaves_for_good_dot(),
       // else the lone-solid shortcut's bits where the offset allows), the
@@ -836,24 +871,14 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
       u32 self = 1u << j;
       i4 onlyL = i4_of(0);
       if (s.aloneMask & self)
-        onlyL = (*(f4*)off <= f4_of(0.5f * kAloneSlack * sh.size)) &
-                i4_of((i32)((u32)(j + 1) << kOnlyShift));
+        onlyL =
+            (off <= f4_of(0.5f * kAloneSlack * sh.size)) & i4_of((i32)((u32)(j + 1) << kOnlyShift));
       i4 flatL = i4_of(-(i32)(kind0 == kPlane || kind0 == kTriangle));
-      alignas(16) u32 skR[4], skT[4];
-      *(i4*)skR = flatL | (front ? *(f4*)dR > zero : *(f4*)dR < zero) ? i4_of((i32)self) : onlyL;
-      *(i4*)skT = flatL | (front ? *(f4*)dT > zero : *(f4*)dT < zero) ? i4_of((i32)self) : onlyL;
-      *(i4*)waiting = (lanes_of(castR) & i4_of(1 << (kRootSlot + 1))) |
-                      (lanes_of(castT) & i4_of(1 << kRootSlot));
+      *(i4*)skR = flatL | (front ? dR > zero : dR < zero) ? i4_of((i32)self) : onlyL;
+      *(i4*)skT = flatL | (front ? dT > zero : dT < zero) ? i4_of((i32)self) : onlyL;
+      waiting = (castRL & i4_of(1 << (kRootSlot + 1))) | (castTL & i4_of(1 << kRootSlot));
       ctx.stats.secondary +=
           (0x4332322132212110ull >> 4 * castR & 15) + (0x4332322132212110ull >> 4 * castT & 15);
-      for (u32 q = castR; q; q &= q - 1) {
-        int k = __builtin_ctz(q);
-        rayR.put(k, root[k].child[1], skR[k], false);
-      }
-      for (u32 q = castT; q; q &= q - 1) {
-        int k = __builtin_ctz(q);
-        rayT.put(k, root[k].child[0], skT[k], true);
-      }
     } else {
       // Mixed packets: per lane.
       for (u32 q = castR | castT; q; q &= q - 1) {
@@ -864,18 +889,28 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
                        ? (u32)(id[k] + 1) << kOnlyShift
                        : 0;
         if (castR >> k & 1) {
-          u32 skip = leaves(sh, frontOf[k], dR[k]) ? self : only;
-          rayR.put(k, root[k].child[1], skip, false);
+          skR[k] = leaves(sh, frontOf[k], dR[k]) ? self : only;
           waiting[k] |= 1u << (kRootSlot + 1);
           ++ctx.stats.secondary;
         }
         if (castT >> k & 1) {
-          u32 skip = leaves(sh, frontOf[k], dT[k]) ? self : only;
-          rayT.put(k, root[k].child[0], skip, true);
+          skT[k] = leaves(sh, frontOf[k], dT[k]) ? self : only;
           waiting[k] |= 1u << kRootSlot;
           ++ctx.stats.secondary;
         }
       }
+    }
+    // Every lane's rays stored (root[] is this call's: a lane's child is
+    // read only where its waiting bit is set).
+    PendingRows rayR(oR, R, one * fR, *(i4*)skR);
+#pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k)
+      rayR.put(k, root[k].child[1], false);
+    if (castT) {
+      PendingRows rayT(oT, T, one * transmit, *(i4*)skT);
+#pragma GCC unroll 4
+      for (int k = 0; k < 4; ++k)
+        rayT.put(k, root[k].child[0], true);
     }
   }
 
@@ -884,8 +919,6 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
   // scalar shadow_objects() (a primary ray records: every lit term casts a
   // shadow ray).
   alignas(16) u32 bits[4] = {0, 0, 0, 0};
-  Lanes3 lo;
-  lo.set(lightOrg);
   for (int li = 0; li < s.numLights; ++li) {
     const Light& light = s.lights[li];
     // The light's term unshadowed (trace_tree's `lit`).
@@ -901,39 +934,51 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
     u32 cand = ~lane_bits(*(i4*)objects == i4_of(0)) & lit;
     u32 shadowed = 0;
     ctx.stats.shadow += 0x4332322132212110ull >> 4 * lit & 15; // lit's bits, counted
-    V4 tv = {one, one, one};
+    // term * transmittance; where no lane's ray meets a bound, term (term * 1, the same bits).
+    V4 through = term;
     if (cand) {
+      V4 tv = {one, one, one};
       auto exiting = [&](int j) {
         return s.lightC[li][j] > 0 ? inside & lane_bits(ids == i4_of(j)) : 0u;
       };
       cand =
           one_solid_shadows4(s, li, cand, objects, exiting, lightOrg, L, dist, tv, shadowed, bits);
-    }
-    if (cand) {
-      // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
-      auto exits = [&](int k) {
-        return (inside >> k & 1) && s.lightC[li][id[k]] > 0 ? 1u << id[k] : 0u;
-      };
-      shadow_objects4(s, li, cand, lo, L, dist, objects, exits, tv, shadowed, bits);
+      if (cand) {
+        // The lanes whose ray meets a bound; the others are lit: code 0, through 1.
+        auto exits = [&](int k) {
+          return (inside >> k & 1) && s.lightC[li][id[k]] > 0 ? 1u << id[k] : 0u;
+        };
+        shadow_objects4(s, li, cand, lightOrg, L, dist, objects, exits, tv, shadowed, bits);
+      }
+      through = term * tv;
     }
     i4 add = lanes_of(lit & ~shadowed);
-    col = select(add, col + term * tv, col);
+    col = select(add, col + through, col);
     if (paths)
       *(i4*)bits |= add & (spec * max_abs(light.color) > f4_of(kHighlightEdge)) &
                     i4_of((i32)(4u << (5 + 3 * li)));
   }
-  Lanes3 sum;
-  sum.set(V4{zero, zero, zero} + col * one); // sum += color * weight
-
-  for (u32 m = lanes; m; m &= m - 1) {
-    int k = __builtin_ctz(m);
-    if (paths) {
-      PathRecord& rec = paths[k];
-      rec.node[0] = (u32)(id[k] + 1) | bits[k];
-      rec.count = 1;
-    }
-    root[k].waiting = waiting[k];
-    root[k].sum = sum.lane(k);
+  // Each lane's waiting bits and sum (v3(0) + colour * 1, trace_tree's sum
+  // += color * weight) as one row, RootNode's `waiting` then `sum`: every
+  // lane stored (root[] is this call's).
+  static_assert(__builtin_offsetof(RootNode, sum) == __builtin_offsetof(RootNode, waiting) + 4,
+                "RootNode's sum follows its waiting bits");
+  V4 sum = V4{zero, zero, zero} + col * one;
+  f4 ws[4];
+  rows((f4)waiting, sum.x, sum.y, sum.z, ws);
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    __builtin_memcpy(&root[k].waiting, &ws[k], 16);
+  if (paths) {
+    // Each lane's record: count 1 (a word: the count and its padding) and
+    // its first node, id + 1 and the bits, as one pair of words.
+    static_assert(__builtin_offsetof(PathRecord, node) == 4, "PathRecord's nodes follow its count");
+    i4 node = (h.id + 1) | *(i4*)bits;
+    i4 cn[2] = {(i4)__builtin_ia32_unpcklps((f4)i4_of(1), (f4)node),
+                (i4)__builtin_ia32_unpckhps((f4)i4_of(1), (f4)node)};
+#pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k)
+      if (lanes >> k & 1) __builtin_memcpy(&paths[k], (const char*)&cn[k >> 1] + 8 * (k & 1), 8);
   }
   // The second level: the refracted children into a lone solid (second4()).
   u32 shaded = 0;

@@ -14,6 +14,27 @@ bool same_path(const PathRecord& a, const PathRecord& b) {
 namespace {
 
 typedef float f4 __attribute__((vector_size(16)));
+typedef int i4 __attribute__((vector_size(16)));
+
+// A colour in an SSE register's lanes x, y, z (lane 3 a finite float that
+// no result reads): the light loop's products and sums lane for lane, as
+// mulss and addss round them (lanes.h). `at` loads the 16 bytes from v (a
+// Material's colour: lane 3 its diffuse); `after` the 16 bytes that end
+// with v, rotated (lane 3 the float before v: a Light's pos.z, Scene's
+// background.z), so that no load reaches past the object or into an int.
+inline f4 at(const Vec3& v) {
+  f4 r;
+  __builtin_memcpy(&r, &v, 16);
+  return r;
+}
+inline f4 after(const Vec3& v) {
+  i4 q;
+  __builtin_memcpy(&q, (const char*)&v - 4, 16);
+  return (f4)__builtin_ia32_pshufd(q, 0x39);
+}
+inline f4 splat(float x) { return (f4){x, x, x, x}; }
+// The x, y, z lanes of a sum or a colour (trace_tree's, in lanes).
+inline Vec3 xyz(f4 v) { return Vec3{v[0], v[1], v[2]}; }
 
 // Bit i set: the ray may hit object i (of those in `range`), judged by its
 // bounding sphere (conservative: a clear bit is a sure miss). Four bounds
@@ -32,7 +53,6 @@ __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& 
   // coordinate took 12, the same values (docs/tracer-speed.md, round
   // thirteen).
   static_assert(sizeof(Ray) == 24, "Ray: org then dir, six floats");
-  typedef int i4 __attribute__((vector_size(16)));
   i4 lo, hi;
   __builtin_memcpy(&lo, (const char*)&ray, 16);
   __builtin_memcpy(&hi, (const char*)&ray + 8, 16);
@@ -86,9 +106,9 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // into trace_tree, as when it had no other caller; shadow_objects()
 // (trace.h) is its copy for the packet tracer's shading (packet/shade.cpp),
 // which intro.exe does not link (--gc-sections drops it).
-__attribute__((always_inline)) inline Vec3 shadow_test(const Scene& s, const Ray& ray, float dist,
-                                                       u32 mask, int& code, u32 exits) {
-  Vec3 t = v3(1.0f);
+__attribute__((always_inline)) inline f4 shadow_test(const Scene& s, const Ray& ray, float dist,
+                                                     u32 mask, int& code, u32 exits) {
+  f4 t = splat(1.0f);
   int crossed = 0;
   for (; mask; mask &= mask - 1) {
     int i = __builtin_ctz(mask);
@@ -98,17 +118,17 @@ __attribute__((always_inline)) inline Vec3 shadow_test(const Scene& s, const Ray
     const Material& m = s.objects[i].mat;
     if (m.transmit <= 0) {
       code = 3;
-      return v3(0.0f);
+      return splat(0.0f);
     }
-    t = t * (m.color * m.transmit);
+    t = t * (at(m.color) * m.transmit);
     ++crossed;
   }
   code = crossed > 1 ? 2 : crossed;
   return t;
 }
 
-__attribute__((always_inline)) inline Vec3 shadow_ray(TraceContext& ctx, int light, const Ray& ray,
-                                                      float dist, int& code, u32 range, u32 exits) {
+__attribute__((always_inline)) inline f4 shadow_ray(TraceContext& ctx, int light, const Ray& ray,
+                                                    float dist, int& code, u32 range, u32 exits) {
   const Scene& s = *ctx.scene;
   ++ctx.stats.shadow;
   return shadow_test(s, ray, dist, shadow_mask(s, light, ray.dir, dist, range), code, exits);
@@ -164,9 +184,6 @@ __attribute__((always_inline)) inline float cook_torrance(const Material& m, Vec
 
 Vec3 reflect(Vec3 I, Vec3 N) { return I - N * (2.0f * dot(N, I)); }
 
-// The x, y, z lanes of a sum (trace_tree's, in lanes).
-inline Vec3 xyz(f4 v) { return Vec3{v[0], v[1], v[2]}; }
-
 // trace_tree's id of a ray whose nearest hit is still to be found.
 constexpr int kFindHit = -2;
 
@@ -221,6 +238,9 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
   // its colour times its weight with one mulps and one addps, lane for lane
   // the scalar products and sums (the same bits: lanes.h).
   f4 sum = {0, 0, 0, 0};
+  // The lane's record, read once (the calls below cannot be seen not to
+  // change ctx.record, so it was loaded again for every node).
+  PathRecord* const rec = ctx.record;
   // What nearest() and shadow_mask() test, less the skipped objects.
   u32 all = Resume ? part->all : range_mask(0, s.numObjects);
   u32 foreground = Resume ? part->foreground : range_mask(0, s.numForeground);
@@ -261,7 +281,6 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
         id = nearest(s, ray, hit, all & ~skip, foreground);
     }
     u32* node = nullptr;
-    PathRecord* rec = ctx.record;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;
     // Rays through glass: recorded deeper (trace.h, kRecordWeightGlass).
     bool records = recordable || (pastGlass && weight >= kRecordWeightGlass);
@@ -296,7 +315,9 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
       u32 self = 1u << id;
       Vec3 N = hit.normal;
       Vec3 p = ray.org + ray.dir * hit.t;
-      Vec3 color = s.ambient * m.color;
+      // The colour in lanes (at, after): s.ambient * m.color, lane for lane.
+      f4 mcolor = at(m.color);
+      f4 color = after(s.ambient) * mcolor;
       float off = spawn_offset(p, spawn_scale(obj.shape, hit));
       // spawn_origin(p, N, N, off): dot(N, N) >= 0 always (N is finite).
       Ray shadow;
@@ -381,7 +402,7 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
         if (NdotL > 0) {
           // The light's term unshadowed; a shadow ray scales it by its transmittance.
           float spec;
-          Vec3 lit;
+          f4 lcolor = after(light.color), lit;
           if (s.model == kPhong) {
             // (V.R)^h <= exp(-h (1 - V.R)) (ln x <= x - 1): below exp(-kSpecExp)
             // the power is not computed (trace.h).
@@ -390,16 +411,16 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
             spec = m.shininess * (1.0f - VdotR) > kSpecExp
                        ? 0.0f
                        : m.specular * rt_pow_inline(VdotR, m.shininess);
-            lit = (m.color * (m.diffuse * NdotL) + v3(spec)) * light.color;
+            lit = (mcolor * (m.diffuse * NdotL) + spec) * lcolor;
           } else {
             spec = m.specular * cook_torrance(m, N, ray.dir, L) * NdotL;
-            lit = m.color * (m.diffuse * NdotL + spec) * light.color;
+            lit = mcolor * (m.diffuse * NdotL + spec) * lcolor;
           }
           // A ray the records leave out whose term can move the pixel by less
           // than kShadowSkip casts no shadow ray: it counts as lit (with or
           // without a record, the colour is the same).
-          Vec3 through = v3(1.0f);
-          if (recordable || weight * max_abs(lit) >= kShadowSkip) {
+          f4 through = splat(1.0f);
+          if (recordable || weight * max_abs(xyz(lit)) >= kShadowSkip) {
             bool exits = inside && s.lightC[li][id] > 0;
             shadow.dir = L;
             through = shadow_ray(ctx, li, shadow, dist, code, shadowRange, exits ? self : 0);
@@ -412,7 +433,7 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
         }
         if (node) *node |= bits << (5 + 3 * li);
       }
-      sum += (f4){color.x, color.y, color.z, 0.0f} * weight;
+      sum += color * weight;
     }
     if (!waiting) break;
     int slot = 31 - __builtin_clz(waiting);
@@ -446,15 +467,21 @@ int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit) {
   // through an inline function: that moved GCC's register and stack-slot
   // choices in intro.exe's copy of the loop (3,334 lines of its disassembly
   // differ, payload +2 bytes; round twelve), which tree18 kept unchanged.
-  u32 all = range_mask(0, s.numObjects), foreground = range_mask(0, s.numForeground);
+  // (The masks without range_mask's test for 32 objects or more: a scene
+  // holds at most kMaxObjects. hit.t = kHuge for the lone solid's test only:
+  // nearest_among() sets it itself. About 10 instructions a call.)
+  static_assert(kMaxObjects < 32, "an object mask is a u32");
+  u32 all = (1u << s.numObjects) - 1, foreground = (1u << s.numForeground) - 1;
   u32 only = skip >> kOnlyShift;
-  hit.t = kHuge;
-  if (only && intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit)) return (int)only - 1;
+  if (only) {
+    hit.t = kHuge;
+    if (intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit)) return (int)only - 1;
+  }
   return nearest(s, ray, hit, all & ~skip, foreground);
 }
 
 Vec3 shadow_objects(const Scene& s, const Ray& ray, float dist, u32 mask, int& code, u32 exits) {
-  return shadow_test(s, ray, dist, mask, code, exits);
+  return xyz(shadow_test(s, ray, dist, mask, code, exits));
 }
 
 // A lane whose refracted child was shaded ahead (packet/shade.h, the
@@ -600,10 +627,32 @@ u32 pack_color(Vec3 c) {
 }
 
 // The same packs over four colours: the bytes of the four words in order.
+// c[0..3]'s 48 bytes in three 16-byte loads, each colour's z, y, x put in
+// lanes 0..2 by one or two shuffles (no scalar load and unpack per
+// channel); lane 3 then holds a neighbour's channel, so its byte is set to
+// 255 after the packs, the byte quantise()'s 1.0 gives. The other lanes
+// are quantise()'s very operations.
 void pack_color4(const Vec3 c[4], u32 out[4]) {
-  s8 lo = __builtin_ia32_packssdw128(quantise(c[0]), quantise(c[1]));
-  s8 hi = __builtin_ia32_packssdw128(quantise(c[2]), quantise(c[3]));
-  c16 b = __builtin_ia32_packuswb128(lo, hi);
+  static_assert(sizeof(Vec3) == 12, "Vec3: three floats");
+  i4 a, m, z; // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+  __builtin_memcpy(&a, (const char*)c, 16);
+  __builtin_memcpy(&m, (const char*)c + 16, 16);
+  __builtin_memcpy(&z, (const char*)c + 32, 16);
+  f4 v[4] = {(f4)__builtin_ia32_pshufd(a, 0xc6),                // z0 y0 x0 x1
+             __builtin_ia32_shufps((f4)m, (f4)a, 0xf1),         // z1 y1 x1 x1
+             (f4)__builtin_ia32_pshufd(                         // z2 y2 x2 z2
+                 (i4)__builtin_ia32_shufps((f4)m, (f4)z, 0x0e), //   (x2 y2 z2 z2)
+                 0xc6),
+             (f4)__builtin_ia32_pshufd(z, 0x1b)}; // z3 y3 x3 z2
+  f4 one = {1, 1, 1, 1};
+  i4 q[4];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    q[k] = __builtin_ia32_cvttps2dq(__builtin_ia32_minps(one, v[k]) * 255.0f + 0.5f);
+  s8 lo = __builtin_ia32_packssdw128(q[0], q[1]);
+  s8 hi = __builtin_ia32_packssdw128(q[2], q[3]);
+  i4 alpha = {(int)0xff000000, (int)0xff000000, (int)0xff000000, (int)0xff000000};
+  i4 b = (i4)__builtin_ia32_packuswb128(lo, hi) | alpha;
   __builtin_memcpy(out, &b, 16);
 }
 

@@ -55,7 +55,7 @@ inline Vec3 xyz(f4 v) { return Vec3{v[0], v[1], v[2]}; }
 // run the second group, in a loop, cost more than running it: 1.5-2.7 % of
 // a frame with shadow_mask's the same (docs/tracer-speed.md, round seven).
 __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& ray, u32 range) {
-  u32 mask = s.unboundedMask & range;
+  u32 missed = 0; // bit i: bound i surely missed
   // The six broadcasts from two 16-byte loads of the Ray's 24 bytes (org.x
   // .. dir.x and org.z .. dir.z) and a pshufd each (a shuffle that needs no
   // copy of its source first): 8 instructions where a load and a shufps per
@@ -78,10 +78,12 @@ __attribute__((always_inline)) inline u32 bound_mask(const Scene& s, const Ray& 
     // min(b, c) > 0: both are (one minps). A NaN ray (never a hit) may be
     // culled here where the two compares kept it for intersect_t().
     auto miss = (b * b < c) | (__builtin_ia32_minps(b, c) > zero);
-    u32 m = ~(u32)__builtin_ia32_movmskps((f4)miss) & 15u;
-    mask |= (m << g) & range;
+    missed |= (u32)__builtin_ia32_movmskps((f4)miss) << g;
   }
-  return mask;
+  // (unboundedMask | the bounds not missed) & range: the same bits as each
+  // group's (~m & 15) << g masked by range, since range holds object bits
+  // only (below kMaxObjects): one not, one or, one and for both groups.
+  return (s.unboundedMask | ~missed) & range;
 }
 
 inline u32 range_mask(int begin, int end) {

@@ -195,7 +195,7 @@ int find_hit(const Scene& s, const Ray& ray, u32 skip, Hit& hit);
 __attribute__((always_inline)) inline u32 shadow_mask(const Scene& s, int l, Vec3 L, float dist,
                                                       u32 range) {
   typedef float v4 __attribute__((vector_size(16)));
-  u32 mask = s.unboundedMask & range;
+  u32 missed = 0; // bit i: bound i surely missed
   v4 lx = {L.x, L.x, L.x, L.x}, ly = {L.y, L.y, L.y, L.y}, lz = {L.z, L.z, L.z, L.z};
   v4 tm = {dist, dist, dist, dist}, zero = {0, 0, 0, 0};
 #pragma GCC unroll 2
@@ -205,10 +205,10 @@ __attribute__((always_inline)) inline u32 shadow_mask(const Scene& s, int l, Vec
     v4 c = *(const v4*)(s.lightC[l] + g);
     auto miss = (beta * beta < c) |
                 ((c > zero) & ((beta < zero) | (beta - *(const v4*)(s.boundR + g) >= tm)));
-    u32 m = ~(u32)__builtin_ia32_movmskps((v4)miss) & 15u;
-    mask |= (m << g) & range;
+    missed |= (u32)__builtin_ia32_movmskps((v4)miss) << g;
   }
-  return mask;
+  // As bound_mask's (trace.cpp): range holds object bits only.
+  return (s.unboundedMask | ~missed) & range;
 }
 
 // The end of trace_hit's shadow ray from ray.org along unit ray.dir to a

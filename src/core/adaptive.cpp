@@ -270,12 +270,15 @@ RT64K_HOT_ABI void flush(Context& c) {
       out->path = paths[k];
       out->state = kKnown; // (a spare's is not read)
       if (u32* pixel = b.pixel[j]) *pixel = packed;
-      if (f.kinds) {
-        u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
-        if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
-      }
     }
   }
+  // The samples counted in the kinds map (most frames keep none: the test
+  // once a batch, not once a sample).
+  if (f.kinds)
+    for (int j = 0; j < b.n; ++j) {
+      u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
+      if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
+    }
   b.n = 0;
 }
 
@@ -435,12 +438,13 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
 // interpolate_block.
-inline void interpolate(const Context& c, const Node& b, v4i corners) {
+// w and h are the block's x1 - x0 and y1 - y0 (the caller's: the build has
+// no strict aliasing, so the node's fields would be loaded again).
+inline void interpolate(const Context& c, const Node& b, int w, int h, v4i corners) {
   const AdaptiveFrame& f = *c.f;
-  int span = b.x1 - b.x0;
-  if (c.exact && span == b.y1 - b.y0 && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
-      (span == 2 || span == 4 || span == 8)) {
-    interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
+  if (c.exact && w == h && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
+      (w == 2 || w == 4 || w == 8)) {
+    interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(w), corners);
   } else {
     interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
   }
@@ -539,6 +543,10 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
   int used = c.used, held = 0, i = 0, end = count; // (base: up to the kBaseGroup-th held)
   bool base = nodes == c.base;
+  // The blocks split or traced per pixel (`held`), in order: the only ones
+  // the second pass below visits (most blocks are copied or interpolated).
+  u8 heldAt[kGroup];
+  static_assert(kBaseChunk <= kGroup, "heldAt holds a base group's blocks too");
   for (; i < end; ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
@@ -573,11 +581,12 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       continue;
     }
     if (kind == kInterpolated) {
-      interpolate(c, n, cv);
+      interpolate(c, n, w, h, cv);
       continue;
     }
+    heldAt[held++] = (u8)i;
     if (base) {
-      if (++held == kBaseGroup) end = i + 1;
+      if (held == kBaseGroup) end = i + 1;
       open_side(n.top, w);
       open_side(n.bottom, w);
       n.left = open_column(c, n.x0);
@@ -610,10 +619,12 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];
   int k = 0;
-  for (int p = 0; p < i; ++p) {
-    Node& n = nodes[p];
-    if (n.kind == kTraced) trace_block(c, n, true);
-    if (n.kind != kSplit) continue;
+  for (int p = 0; p < held; ++p) {
+    Node& n = nodes[heldAt[p]];
+    if (n.kind == kTraced) {
+      trace_block(c, n, true);
+      continue;
+    }
     int w = n.x1 - n.x0, h = n.y1 - n.y0, a = n.xm - n.x0, b = n.ym - n.y0;
     if (n.splitX) {
       copy_slot(n.v, 0, n.top, a);
@@ -819,6 +830,9 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
   v8s cd = (v8s)__builtin_ia32_punpckhbw128((v16c)corners, zero); // c | d
   v8s one = {1, 1, 1, 1, 1, 1, 1, 1};
+  // (Held in a register through the loops below: GCC would load the
+  // constant again in every row, -fno-move-loop-invariants.)
+  __asm__("" : "+x"(one));
   if (s == 1) { // (most calls: the two rows below in one register each)
     // T(0) | T(1) = 2a | a + b, B likewise; row 0 is T S + 1 (the bias
     // S^2/2 - 1), row 1 T S + (B - T) + 1; then rounded as below (shift 2).
@@ -839,7 +853,6 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), s) +
                (v8s)__builtin_ia32_pslldqi128((v2ll)f, 64);
   v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
-  int size = 1 << s;
   short h = (short)((1 << (2 * s - 1)) - 1);
   v8s bias = {h, h, h, h, h, h, h, h};
   v8s shift = (v8s)(v2ll){2 * s, 0}; // psraw's count
@@ -847,25 +860,30 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s q1 = q0 + dq, d1 = d0 + dd;
   v8s q2 = q1 + dq, d2 = d1 + dd;
   v8s q3 = q2 + dq, d3 = d2 + dd;
-  if (size == 4) {
-    for (int r = 0; r < 4; ++r, row += stride) {
-      *(v4i_unaligned*)row =
+  // The rows as offsets from the row past the block's last, counting up to
+  // 0: the offset's add is the loop's test (a do-while: this file is built
+  // with -fno-tree-ch, which leaves a for loop's test at its top).
+  long step = stride, o = -(step << s);
+  row -= o;
+  if (s == 2) {
+    do {
+      *(v4i_unaligned*)(row + o) =
           (v4i)__builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
       q0 += d0;
       q1 += d1;
-    }
+    } while (o += step);
     return;
   }
-  for (int r = 0; r < 8; ++r, row += stride) { // (s = 3; s = 1 returned above)
-    *(v4i_unaligned*)row =
+  do { // (s = 3; s = 1 returned above)
+    *(v4i_unaligned*)(row + o) =
         (v4i)__builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
-    *(v4i_unaligned*)(row + 4) =
+    *(v4i_unaligned*)(row + o + 4) =
         (v4i)__builtin_ia32_packuswb128(round_even(q2, shift, one), round_even(q3, shift, one));
     q0 += d0;
     q1 += d1;
     q2 += d2;
     q3 += d3;
-  }
+  } while (o += step);
 }
 
 // Per row, each channel's value at the block's left and right side; along

@@ -31,6 +31,7 @@ typedef short v8s __attribute__((vector_size(16)));
 typedef char v16c __attribute__((vector_size(16)));
 typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
 typedef float v4f __attribute__((vector_size(16)));
+typedef long long v2di __attribute__((vector_size(16)));
 
 // The four records equal (same_path() of a with each of b, c, d, in
 // trace.cpp), without its loops or branches: the count and nodes 0-2 as one
@@ -48,6 +49,17 @@ inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRec
   v4i hi2 = (hi ^ *(V)(b.node + 3)) | (hi ^ *(V)(c.node + 3)) | (hi ^ *(V)(d.node + 3));
   v4i differ = (lo2 & (first < n) & countByte) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
   return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
+}
+
+// The four samples' packed colours as one vector (c00, c10, c01, c11), each
+// loaded straight into a register (movd): GCC builds the vector literal
+// through a general register for two of them.
+inline v4i corner_colours(const CornerSample& a, const CornerSample& b, const CornerSample& c,
+                          const CornerSample& d) {
+  v4i va = {(i32)a.packed, 0, 0, 0}, vb = {(i32)b.packed, 0, 0, 0};
+  v4i vc = {(i32)c.packed, 0, 0, 0}, vd = {(i32)d.packed, 0, 0, 0};
+  return (v4i)__builtin_ia32_punpcklqdq128((v2di)__builtin_ia32_punpckldq128(va, vb),
+                                           (v2di)__builtin_ia32_punpckldq128(vc, vd));
 }
 
 // Per block or per band, not per pixel: kept out of line, which saves bytes
@@ -559,7 +571,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     // (not for a copied block) and kept for the interpolation.
     v4i cv;
     if (!same_records(c00.path, c10.path, c01.path, c11.path)) {
-      cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed};
+      cv = corner_colours(c00, c10, c01, c11);
       // Small blocks whose records differ: interpolated where the corners'
       // colours are close (kSmallContrast).
       int limit = is_small(f, w, h)                            ? kSmallContrast[0]
@@ -568,8 +580,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(cv, limit)) kind = kSplit;
     } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
       kind = kCopied;
-    } else if ((cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed},
-                f.mode != kModeAdaptive) ||
+    } else if ((cv = corner_colours(c00, c10, c01, c11), f.mode != kModeAdaptive) ||
                // The four records are equal, so c00's stands for all.
                (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
       kind = kSplit;

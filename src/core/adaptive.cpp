@@ -203,8 +203,9 @@ struct Batch {
   int n;
   float x[kBatch], y[kBatch]; // pixel coordinates, as trace_primary4 takes them
   Sample* out[kBatch];
-  u32* pixel[kBatch]; // the framebuffer pixel to write too, or null
+  u32* pixel[kBatch]; // the framebuffer pixel to write too, or &sink
   Sample spare[kBatch];
+  u32 sink; // the pixel of a sample no pixel shows (flush writes every lane's)
 };
 
 struct Context {
@@ -268,26 +269,38 @@ RT64K_HOT_ABI void flush(Context& c) {
   Batch& b = c.batch;
   const AdaptiveFrame& f = *c.f;
   Vec3 color[4] = {}; // (lanes past a short packet's count: packed, not used)
-  for (int i = 0; i < b.n; i += 4) {
-    int count = b.n - i < 4 ? b.n - i : 4;
+  // n loaded once: the stores below may alias the batch (its spares).
+  // The lanes past the last packet's count (up to a multiple of 4, at most
+  // kBatch) go to spare slots and the sink, so that every packet stores its
+  // four lanes: the loop below unrolled (GCC 12 at -O2 keeps a loop of a
+  // variable count rolled).
+  int n = b.n;
+  static_assert(kBatch % 4 == 0, "a batch is whole packets");
+  for (int j = n; j & 3; ++j) {
+    b.out[j] = &b.spare[j];
+    b.pixel[j] = &b.sink;
+  }
+  for (int i = 0; i < n; i += 4) {
+    int count = n - i < 4 ? n - i : 4;
     PathRecord paths[4];
     u32 packs[4];
     trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
     pack_color4(color, packs);
-    for (int k = 0; k < count; ++k) {
+#pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k) {
       int j = i + k;
       u32 packed = packs[k];
       Sample* out = b.out[j]; // (loaded once: the stores below may alias the batch)
       out->packed = packed;
       out->path = paths[k];
       out->state = kKnown; // (a spare's is not read)
-      if (u32* pixel = b.pixel[j]) *pixel = packed;
+      *b.pixel[j] = packed;
     }
   }
   // The samples counted in the kinds map (most frames keep none: the test
   // once a batch, not once a sample).
   if (f.kinds)
-    for (int j = 0; j < b.n; ++j) {
+    for (int j = 0; j < n; ++j) {
       u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
       if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
     }
@@ -304,7 +317,7 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   b.x[n] = (float)x;
   b.y[n] = (float)y;
   b.out[n] = e;
-  b.pixel[n] = nullptr;
+  b.pixel[n] = &b.sink;
   b.n = ++n;
   if (n == kBatch) flush(c);
 }
@@ -703,7 +716,7 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
     b.x[n] = (float)x;
     b.y[n] = fy;
     b.out[n] = e;
-    b.pixel[n] = nullptr;
+    b.pixel[n] = &b.sink;
     if (++n == kBatch) {
       b.n = n;
       flush(c);

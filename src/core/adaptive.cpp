@@ -601,7 +601,10 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
     n.kind = kind;
     if (kind == kCopied) {
-      fill(f, n, c00.packed);
+      if (c.exact) // (no kinds map, no tint: fill() would only pass it on)
+        adaptive_fill(f.fb, f.stride, n.x0, n.y0, n.xEnd, n.yEnd, c00.packed);
+      else
+        fill(f, n, c00.packed);
       continue;
     }
     if (kind == kInterpolated) {
@@ -790,11 +793,15 @@ void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
   int w = xEnd - x0;
   u32* row = fb + y0 * stride + x0;
-  if (w == 8) { // (the common case: an 8-px block's rows)
-    for (int y = y0; y < yEnd; ++y, row += stride) {
-      *(v4i_unaligned*)row = four;
-      *(v4i_unaligned*)(row + 4) = four;
-    }
+  if (w == 8 && yEnd > y0) { // (the common case: an 8-px block's rows)
+    // As offsets from the row past the last, counting up to 0 (as
+    // interpolate_exact: the add is the loop's test).
+    long step = stride, o = -(long)(yEnd - y0) * step;
+    row -= o;
+    do {
+      *(v4i_unaligned*)(row + o) = four;
+      *(v4i_unaligned*)(row + o + 4) = four;
+    } while (o += step);
     return;
   }
   for (int y = y0; y < yEnd; ++y, row += stride) {

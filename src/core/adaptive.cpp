@@ -599,7 +599,6 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       kind = kSplit;
     }
     if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
-    n.kind = kind;
     if (kind == kCopied) {
       if (c.exact) // (no kinds map, no tint: fill() would only pass it on)
         adaptive_fill(f.fb, f.stride, n.x0, n.y0, n.xEnd, n.yEnd, c00.packed);
@@ -611,6 +610,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       interpolate(c, n, w, h, cv);
       continue;
     }
+    n.kind = kSplit; // (read by the second pass, which sees only held blocks)
     heldAt[held++] = (u8)i;
     if (base) {
       if (held == kBaseGroup) end = i + 1;

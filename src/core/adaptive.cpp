@@ -31,6 +31,7 @@ typedef short v8s __attribute__((vector_size(16)));
 typedef char v16c __attribute__((vector_size(16)));
 typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
 typedef float v4f __attribute__((vector_size(16)));
+typedef long long v2di __attribute__((vector_size(16)));
 
 // The four records equal (same_path() of a with each of b, c, d, in
 // trace.cpp), without its loops or branches: the count and nodes 0-2 as one
@@ -48,6 +49,17 @@ inline bool same_records(const PathRecord& a, const PathRecord& b, const PathRec
   v4i hi2 = (hi ^ *(V)(b.node + 3)) | (hi ^ *(V)(c.node + 3)) | (hi ^ *(V)(d.node + 3));
   v4i differ = (lo2 & (first < n) & countByte) | (hi2 & (last < n)), zero = {0, 0, 0, 0};
   return __builtin_ia32_movmskps((v4f)(differ == zero)) == 15;
+}
+
+// The four samples' packed colours as one vector (c00, c10, c01, c11), each
+// loaded straight into a register (movd): GCC builds the vector literal
+// through a general register for two of them.
+inline v4i corner_colours(const CornerSample& a, const CornerSample& b, const CornerSample& c,
+                          const CornerSample& d) {
+  v4i va = {(i32)a.packed, 0, 0, 0}, vb = {(i32)b.packed, 0, 0, 0};
+  v4i vc = {(i32)c.packed, 0, 0, 0}, vd = {(i32)d.packed, 0, 0, 0};
+  return (v4i)__builtin_ia32_punpcklqdq128((v2di)__builtin_ia32_punpckldq128(va, vb),
+                                           (v2di)__builtin_ia32_punpckldq128(vc, vd));
 }
 
 // Per block or per band, not per pixel: kept out of line, which saves bytes
@@ -191,8 +203,9 @@ struct Batch {
   int n;
   float x[kBatch], y[kBatch]; // pixel coordinates, as trace_primary4 takes them
   Sample* out[kBatch];
-  u32* pixel[kBatch]; // the framebuffer pixel to write too, or null
+  u32* pixel[kBatch]; // the framebuffer pixel to write too, or &sink
   Sample spare[kBatch];
+  u32 sink; // the pixel of a sample no pixel shows (flush writes every lane's)
 };
 
 struct Context {
@@ -256,26 +269,41 @@ RT64K_HOT_ABI void flush(Context& c) {
   Batch& b = c.batch;
   const AdaptiveFrame& f = *c.f;
   Vec3 color[4] = {}; // (lanes past a short packet's count: packed, not used)
-  for (int i = 0; i < b.n; i += 4) {
-    int count = b.n - i < 4 ? b.n - i : 4;
+  // n loaded once: the stores below may alias the batch (its spares).
+  // The lanes past the last packet's count (up to a multiple of 4, at most
+  // kBatch) go to spare slots and the sink, so that every packet stores its
+  // four lanes: the loop below unrolled (GCC 12 at -O2 keeps a loop of a
+  // variable count rolled).
+  int n = b.n;
+  static_assert(kBatch % 4 == 0, "a batch is whole packets");
+  for (int j = n; j & 3; ++j) {
+    b.out[j] = &b.spare[j];
+    b.pixel[j] = &b.sink;
+  }
+  for (int i = 0; i < n; i += 4) {
+    int count = n - i < 4 ? n - i : 4;
     PathRecord paths[4];
     u32 packs[4];
     trace_primary4(*f.scene, f.cam, b.x + i, b.y + i, count, color, paths, c.stats);
     pack_color4(color, packs);
-    for (int k = 0; k < count; ++k) {
+#pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k) {
       int j = i + k;
       u32 packed = packs[k];
       Sample* out = b.out[j]; // (loaded once: the stores below may alias the batch)
       out->packed = packed;
       out->path = paths[k];
       out->state = kKnown; // (a spare's is not read)
-      if (u32* pixel = b.pixel[j]) *pixel = packed;
-      if (f.kinds) {
-        u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
-        if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
-      }
+      *b.pixel[j] = packed;
     }
   }
+  // The samples counted in the kinds map (most frames keep none: the test
+  // once a batch, not once a sample).
+  if (f.kinds)
+    for (int j = 0; j < n; ++j) {
+      u8& kind = f.kinds[(int)b.y[j] * f.width + (int)b.x[j]];
+      if (kind >> kSampleCountShift != 3) kind = (u8)(kind + (1 << kSampleCountShift));
+    }
   b.n = 0;
 }
 
@@ -289,7 +317,7 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   b.x[n] = (float)x;
   b.y[n] = (float)y;
   b.out[n] = e;
-  b.pixel[n] = nullptr;
+  b.pixel[n] = &b.sink;
   b.n = ++n;
   if (n == kBatch) flush(c);
 }
@@ -435,12 +463,13 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
 // interpolate_block.
-inline void interpolate(const Context& c, const Node& b, v4i corners) {
+// w and h are the block's x1 - x0 and y1 - y0 (the caller's: the build has
+// no strict aliasing, so the node's fields would be loaded again).
+inline void interpolate(const Context& c, const Node& b, int w, int h, v4i corners) {
   const AdaptiveFrame& f = *c.f;
-  int span = b.x1 - b.x0;
-  if (c.exact && span == b.y1 - b.y0 && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
-      (span == 2 || span == 4 || span == 8)) {
-    interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(span), corners);
+  if (c.exact && w == h && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
+      (w == 2 || w == 4 || w == 8)) {
+    interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(w), corners);
   } else {
     interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
   }
@@ -539,6 +568,10 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   const AdaptiveFrame& f = *c.f;
   int used = c.used, held = 0, i = 0, end = count; // (base: up to the kBaseGroup-th held)
   bool base = nodes == c.base;
+  // The blocks split or traced per pixel (`held`), in order: the only ones
+  // the second pass below visits (most blocks are copied or interpolated).
+  u8 heldAt[kGroup];
+  static_assert(kBaseChunk <= kGroup, "heldAt holds a base group's blocks too");
   for (; i < end; ++i) {
     Node& n = nodes[i];
     int w = n.x1 - n.x0, h = n.y1 - n.y0;
@@ -551,7 +584,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     // (not for a copied block) and kept for the interpolation.
     v4i cv;
     if (!same_records(c00.path, c10.path, c01.path, c11.path)) {
-      cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed};
+      cv = corner_colours(c00, c10, c01, c11);
       // Small blocks whose records differ: interpolated where the corners'
       // colours are close (kSmallContrast).
       int limit = is_small(f, w, h)                            ? kSmallContrast[0]
@@ -560,24 +593,27 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       if (f.mode != kModeAdaptive || limit < 0 || !low_contrast(cv, limit)) kind = kSplit;
     } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
       kind = kCopied;
-    } else if ((cv = (v4i){(i32)c00.packed, (i32)c10.packed, (i32)c01.packed, (i32)c11.packed},
-                f.mode != kModeAdaptive) ||
+    } else if ((cv = corner_colours(c00, c10, c01, c11), f.mode != kModeAdaptive) ||
                // The four records are equal, so c00's stands for all.
                (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
       kind = kSplit;
     }
     if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
-    n.kind = kind;
     if (kind == kCopied) {
-      fill(f, n, c00.packed);
+      if (c.exact) // (no kinds map, no tint: fill() would only pass it on)
+        adaptive_fill(f.fb, f.stride, n.x0, n.y0, n.xEnd, n.yEnd, c00.packed);
+      else
+        fill(f, n, c00.packed);
       continue;
     }
     if (kind == kInterpolated) {
-      interpolate(c, n, cv);
+      interpolate(c, n, w, h, cv);
       continue;
     }
+    n.kind = kSplit; // (read by the second pass, which sees only held blocks)
+    heldAt[held++] = (u8)i;
     if (base) {
-      if (++held == kBaseGroup) end = i + 1;
+      if (held == kBaseGroup) end = i + 1;
       open_side(n.top, w);
       open_side(n.bottom, w);
       n.left = open_column(c, n.x0);
@@ -610,10 +646,12 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
   if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];
   int k = 0;
-  for (int p = 0; p < i; ++p) {
-    Node& n = nodes[p];
-    if (n.kind == kTraced) trace_block(c, n, true);
-    if (n.kind != kSplit) continue;
+  for (int p = 0; p < held; ++p) {
+    Node& n = nodes[heldAt[p]];
+    if (n.kind == kTraced) {
+      trace_block(c, n, true);
+      continue;
+    }
     int w = n.x1 - n.x0, h = n.y1 - n.y0, a = n.xm - n.x0, b = n.ym - n.y0;
     if (n.splitX) {
       copy_slot(n.v, 0, n.top, a);
@@ -681,7 +719,7 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
     b.x[n] = (float)x;
     b.y[n] = fy;
     b.out[n] = e;
-    b.pixel[n] = nullptr;
+    b.pixel[n] = &b.sink;
     if (++n == kBatch) {
       b.n = n;
       flush(c);
@@ -755,11 +793,15 @@ void adaptive_fill(u32* fb, int stride, int x0, int y0, int xEnd, int yEnd, u32 
   v4i four = {(i32)packed, (i32)packed, (i32)packed, (i32)packed};
   int w = xEnd - x0;
   u32* row = fb + y0 * stride + x0;
-  if (w == 8) { // (the common case: an 8-px block's rows)
-    for (int y = y0; y < yEnd; ++y, row += stride) {
-      *(v4i_unaligned*)row = four;
-      *(v4i_unaligned*)(row + 4) = four;
-    }
+  if (w == 8 && yEnd > y0) { // (the common case: an 8-px block's rows)
+    // As offsets from the row past the last, counting up to 0 (as
+    // interpolate_exact: the add is the loop's test).
+    long step = stride, o = -(long)(yEnd - y0) * step;
+    row -= o;
+    do {
+      *(v4i_unaligned*)(row + o) = four;
+      *(v4i_unaligned*)(row + o + 4) = four;
+    } while (o += step);
     return;
   }
   for (int y = y0; y < yEnd; ++y, row += stride) {
@@ -819,6 +861,9 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s ab = (v8s)__builtin_ia32_punpcklbw128((v16c)corners, zero); // a | b
   v8s cd = (v8s)__builtin_ia32_punpckhbw128((v16c)corners, zero); // c | d
   v8s one = {1, 1, 1, 1, 1, 1, 1, 1};
+  // (Held in a register through the loops below: GCC would load the
+  // constant again in every row, -fno-move-loop-invariants.)
+  __asm__("" : "+x"(one));
   if (s == 1) { // (most calls: the two rows below in one register each)
     // T(0) | T(1) = 2a | a + b, B likewise; row 0 is T S + 1 (the bias
     // S^2/2 - 1), row 1 T S + (B - T) + 1; then rounded as below (shift 2).
@@ -839,7 +884,6 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s bottom = __builtin_ia32_psllwi128((v8s)__builtin_ia32_pshufd((v4i)cd, 0x44), s) +
                (v8s)__builtin_ia32_pslldqi128((v2ll)f, 64);
   v8s d0 = bottom - t, dd = (f - e) + (f - e); // per row; its change per register
-  int size = 1 << s;
   short h = (short)((1 << (2 * s - 1)) - 1);
   v8s bias = {h, h, h, h, h, h, h, h};
   v8s shift = (v8s)(v2ll){2 * s, 0}; // psraw's count
@@ -847,25 +891,30 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_exact(u32* row, int stride, int s, v4i
   v8s q1 = q0 + dq, d1 = d0 + dd;
   v8s q2 = q1 + dq, d2 = d1 + dd;
   v8s q3 = q2 + dq, d3 = d2 + dd;
-  if (size == 4) {
-    for (int r = 0; r < 4; ++r, row += stride) {
-      *(v4i_unaligned*)row =
+  // The rows as offsets from the row past the block's last, counting up to
+  // 0: the offset's add is the loop's test (a do-while: this file is built
+  // with -fno-tree-ch, which leaves a for loop's test at its top).
+  long step = stride, o = -(step << s);
+  row -= o;
+  if (s == 2) {
+    do {
+      *(v4i_unaligned*)(row + o) =
           (v4i)__builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
       q0 += d0;
       q1 += d1;
-    }
+    } while (o += step);
     return;
   }
-  for (int r = 0; r < 8; ++r, row += stride) { // (s = 3; s = 1 returned above)
-    *(v4i_unaligned*)row =
+  do { // (s = 3; s = 1 returned above)
+    *(v4i_unaligned*)(row + o) =
         (v4i)__builtin_ia32_packuswb128(round_even(q0, shift, one), round_even(q1, shift, one));
-    *(v4i_unaligned*)(row + 4) =
+    *(v4i_unaligned*)(row + o + 4) =
         (v4i)__builtin_ia32_packuswb128(round_even(q2, shift, one), round_even(q3, shift, one));
     q0 += d0;
     q1 += d1;
     q2 += d2;
     q3 += d3;
-  }
+  } while (o += step);
 }
 
 // Per row, each channel's value at the block's left and right side; along

@@ -78,7 +78,7 @@ const Shape kFloor = {kPlane, 0, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, 0, 0, 0, {0, 0
 // make_triangle(a, c, b) and make_triangle(a, d, c) with a, b, c, d =
 // (-7, 0, -7), (7, 0, -7), (7, 0, 7), (-7, 0, 7): scene 2's stage, a square.
 const Shape kStage[2] = {{kTriangle,
-                          0,
+                          kPairNext,
                           {-7, 0, -7},
                           {7, 0, 7},
                           {7, 0, -7},

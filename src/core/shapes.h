@@ -190,6 +190,16 @@ __attribute__((always_inline)) inline void plane_normal(const Shape& s, Hit& hit
   hit.normal = hit.front ? s.a : -s.a;
 }
 
+// A triangle pair: a triangle whose caps hold kPairNext shares its vertex a,
+// its n and sideMargin, bit for bit, with the scene's next object, a
+// triangle whose c is this one's b (two halves of a quad, the diagonal a-b
+// between them; scenes.cpp's stage). intersect_pair() tests both as two
+// intersect_t() calls in index order would, the same bits, with one side
+// test and one shear: a tracer that would test both may call it instead.
+enum : u8 { kPairNext = 4 };
+RT64K_HOT_ABI int intersect_pair(const Shape& first, const Shape& second, const Ray& ray,
+                                 float tMin, Hit& hit);
+
 // Writes the outward normal turned to face the ray, and hit.front.
 __attribute__((always_inline)) inline void face_ray(Vec3 outward, const Ray& ray, Hit& hit) {
   bool front = dot(outward, ray.dir) < 0;

@@ -2131,14 +2131,20 @@ TEST(Triangle, PairIsTheTwoCallsBitForBit) {
       int kind = i % 6;
       D3 p, dir;
       switch (kind) {
-      case 0: p = A + (C - A) * uni(g, -0.01, 1.01); break; // the diagonal
-      case 1: p = (i / 6 % 4 == 0 ? A : i / 6 % 4 == 1 ? B : i / 6 % 4 == 2 ? C : Dd); break;
+      case 0:
+        p = A + (C - A) * uni(g, -0.01, 1.01);
+        break; // the diagonal
+      case 1:
+        p = (i / 6 % 4 == 0 ? A : i / 6 % 4 == 1 ? B : i / 6 % 4 == 2 ? C : Dd);
+        break;
       case 2: { // the outer edges
         D3 e0 = i / 6 % 2 ? A : C, e1 = i / 6 % 4 < 2 ? B : Dd;
         p = e0 + (e1 - e0) * uni(g, 0, 1);
         break;
       }
-      default: p = A + (B - A) * uni(g, -0.2, 1.2) + (Dd - A) * uni(g, -0.2, 1.2); break;
+      default:
+        p = A + (B - A) * uni(g, -0.2, 1.2) + (Dd - A) * uni(g, -0.2, 1.2);
+        break;
       }
       if (kind == 3) { // grazing
         D3 e1, e2;
@@ -2179,5 +2185,55 @@ TEST(Triangle, PairIsTheTwoCallsBitForBit) {
   EXPECT_GE(firstHits, 10000);
   EXPECT_GE(second, 10000);
   EXPECT_GE(both, 1); // rays through the diagonal that hit both, the second nearer
+  EXPECT_EQ(mismatches, 0);
+}
+
+// plane_t() (shapes.h, kInlinePlane: the resumed tree's inline floor test)
+// against intersect_t(), bit for bit (found, hit.t, hit.piece, hit.local; a
+// miss leaves hit alone): rays going away from the plane (most of the
+// floor's tests), towards it, from on it (spawned, both sides), with |cos|
+// on both sides of kPlaneCosFloat (the float and the double path) and down
+// to 1e-12, exactly parallel, with a nearer hit already known; planes of
+// random normal and offset, and scene 1's floor.
+TEST(Plane, InlineTestIsIntersectTBitForBit) {
+  Rng g(137);
+  long rays = 0, hits = 0, nearParallel = 0, mismatches = 0;
+  for (int q = 0; q < 100; ++q) {
+    Shape pl = q == 0 ? make_plane(v3(0, 1, 0), 0.0f)
+                      : make_plane(fdir(rand_unit(g)), (float)uni(g, -100, 100));
+    D3 n = dv(pl.a), b = dv(pl.b);
+    for (int i = 0; i < 2000; ++i) {
+      D3 p = b + rand_ball(g, 50);
+      p = p - n * dot(p - b, n); // on the plane
+      double h = i % 4 == 0 ? std::ldexp(1.0, -(int)uni(g, 8, 30)) : uni(g, 0.01, 30);
+      D3 o = p + n * (i % 2 ? h : -h);
+      D3 dir;
+      int k = i % 5;
+      if (k == 0 || k == 1) { // near parallel, either side of kPlaneCosFloat
+        D3 e1, e2;
+        frame(n, e1, e2);
+        double ph = uni(g, 0, 2 * M_PI);
+        double s = (k == 0 ? loguni(g, 1e-12, 1e-3) : uni(g, 0.5, 2) / 4096) * (i % 3 ? 1 : -1);
+        if (i % 97 == 0) s = 0;
+        dir = e1 * std::cos(ph) + e2 * std::sin(ph) + n * s;
+        ++nearParallel;
+      } else {
+        dir = rand_unit(g);
+      }
+      Ray ray{fv(o), fdir(dir)};
+      Hit h1, h2;
+      std::memset(&h1, 0x5a, sizeof(Hit));
+      h1.t = i % 3 == 0 ? (float)uni(g, 0, 60) : kHuge;
+      std::memcpy(&h2, &h1, sizeof(Hit));
+      bool a = intersect_t(pl, ray, 0.0f, h1), c = plane_t(pl, ray, h2);
+      ++rays;
+      hits += a;
+      if (a != c || std::memcmp(&h1, &h2, sizeof(Hit))) ++mismatches;
+    }
+  }
+  std::printf("[ measured ] inline plane: %ld rays, %ld hits, %ld near parallel, %ld mismatches\n",
+              rays, hits, nearParallel, mismatches);
+  EXPECT_GE(rays, 200000);
+  EXPECT_GE(hits, 40000);
   EXPECT_EQ(mismatches, 0);
 }

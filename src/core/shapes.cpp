@@ -370,7 +370,8 @@ __attribute__((always_inline)) inline Shear shear_of(const Ray& ray) {
 struct Sheared {
   float x, y, z;
 };
-__attribute__((always_inline)) inline Sheared sheared(const Vec3& v, const Ray& ray, const Shear& h) {
+__attribute__((always_inline)) inline Sheared sheared(const Vec3& v, const Ray& ray,
+                                                      const Shear& h) {
   float z = at(v, h.kz) - at(ray.org, h.kz);
   return Sheared{(at(v, h.kx) - at(ray.org, h.kx)) - h.Sx * z,
                  (at(v, h.ky) - at(ray.org, h.ky)) - h.Sy * z, z};

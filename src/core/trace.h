@@ -263,6 +263,8 @@ inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hi
       int r = intersect_pair(sh, s.objects[i + 1].shape, ray, 0.0f, hit);
       if (r) found = i + r - 1;
       m &= ~(2u << i);
+    } else if (Pairs && (sh.caps & kInlinePlane)) { // the floor without a call (shapes.h)
+      if (plane_t(sh, ray, hit)) found = i;
     } else if (intersect_t(sh, ray, 0.0f, hit))
       found = i;
   }

@@ -244,9 +244,11 @@ int first_hit(const Scene& scene, const Ray& ray, Hit& hit);
 // `foreground` is the mask of objects [0, numForeground), which a caller
 // that searches many rays (trace_tree) computes once.
 // Pairs: a triangle pair (kPairNext, shapes.h) whose halves are both
-// candidates is tested by one intersect_pair() call (the same answer, the
-// same bits); only the resumed tree (the native tool's) takes it: the
-// exe's copy stays without it (its bytes).
+// candidates is tested by one intersect_pair() call, and a plane flagged
+// kInlinePlane by plane_t() without a call (the same answers, the same
+// bits); only the resumed tree (the native tool's) takes them: the exe's
+// copy stays without them (its bytes; docs/tracer-speed.md, round
+// thirteen, second wave).
 template <bool Pairs = false>
 inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hit, u32 foreground) {
   hit.t = kHuge;

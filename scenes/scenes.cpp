@@ -73,12 +73,16 @@ const Material kFloorMat = {{0.3f, 0.32f, 0.45f}, 0.5f, 0.4f, 40.0f, 0.55f, 0, 1
 const Shape kLowerCone = {
     kCone, kCapBase,  {0, 0, 0}, {0, 1, 0},     {-0x1.593bfcp-1f, 0x1.ap+1f, 0x1p-1f}, 1.5f, 0.32f,
     1.75f, {0, 0, 0}, 0,         0x1.bc8ee6p+0f};
-// make_plane(v3(0, 1, 0), 0.0f): scene 1's floor.
-const Shape kFloor = {kPlane, 0, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, 0, 0, 0, {0, 0, 0}, 0, 0};
+// make_plane(v3(0, 1, 0), 0.0f): scene 1's floor, flagged kInlinePlane
+// (shapes.h: the resumed tree tests it without a call).
+const Shape kFloor = {kPlane, kInlinePlane, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, 0, 0,
+                      0,      {0, 0, 0},    0,         0};
 // make_triangle(a, c, b) and make_triangle(a, d, c) with a, b, c, d =
-// (-7, 0, -7), (7, 0, -7), (7, 0, 7), (-7, 0, 7): scene 2's stage, a square.
+// (-7, 0, -7), (7, 0, -7), (7, 0, 7), (-7, 0, 7): scene 2's stage, a square,
+// the first flagged kPairNext (shapes.h: a triangle pair, the two halves
+// tested by one intersect_pair() call in the resumed tree).
 const Shape kStage[2] = {{kTriangle,
-                          0,
+                          kPairNext,
                           {-7, 0, -7},
                           {7, 0, 7},
                           {7, 0, -7},

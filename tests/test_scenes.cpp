@@ -39,10 +39,30 @@ void expect_same(const Shape& stored, const Shape& built, const char* name) {
 TEST(Scenes, StoredShapesAreTheBuildersShapes) {
   expect_same(kLowerCone, make_cone(v3(0, 0, 0), v3(0, 1, 0), 1.5f, 0.32f, 1.75f, kCapBase),
               "kLowerCone");
-  expect_same(kFloor, make_plane(v3(0, 1, 0), 0.0f), "kFloor");
+  Shape floor = make_plane(v3(0, 1, 0), 0.0f); // flagged for the tree's inline test (shapes.h)
+  floor.caps = kInlinePlane;
+  expect_same(kFloor, floor, "kFloor");
   Vec3 a = v3(-7, 0, -7), b = v3(7, 0, -7), c = v3(7, 0, 7), d = v3(-7, 0, 7);
-  expect_same(kStage[0], make_triangle(a, c, b), "kStage[0]");
+  Shape first = make_triangle(a, c, b); // and flagged as a pair's first half (shapes.h)
+  first.caps = kPairNext;
+  expect_same(kStage[0], first, "kStage[0]");
   expect_same(kStage[1], make_triangle(a, d, c), "kStage[1]");
+}
+
+// The stage is a triangle pair (kPairNext, shapes.h; the tree tests both
+// halves with intersect_pair()): its precondition, bit for bit, and the
+// second half unflagged. The scene puts them next to each other with one
+// bound (StoredShapesAreInTheScenes).
+TEST(Scenes, StageIsATrianglePair) {
+  const Shape &f = kStage[0], &s = kStage[1];
+  ASSERT_EQ(f.kind, kTriangle);
+  ASSERT_EQ(s.kind, kTriangle);
+  EXPECT_EQ(f.caps, kPairNext);
+  EXPECT_EQ(s.caps, 0);
+  EXPECT_EQ(0, std::memcmp(&f.a, &s.a, sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(&f.n, &s.n, sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(&f.sideMargin, &s.sideMargin, sizeof(float)));
+  EXPECT_EQ(0, std::memcmp(&f.b, &s.c, sizeof(Vec3)));
 }
 
 // The scenes put them in: scene 1's object 0 and its last (background)

@@ -2079,3 +2079,161 @@ TEST(ShapeProperties, FullCone) { run_properties(Kind::FullCone, 1005); }
 TEST(ShapeProperties, Triangle) { run_properties(Kind::Triangle, 1006); }
 
 } // namespace
+
+// intersect_pair() (shapes.h, kPairNext) against the two intersect_t() calls
+// it stands for, bit for bit: the index found, hit.t, hit.piece and
+// hit.local, and a hit left alone on a miss. The pairs: scene 2's stage
+// square and random squares (the precondition: same a, n and sideMargin,
+// first.b == second.c), in the three axis planes, from 2^-6 to 2^10 wide,
+// up to 1e4 from the origin. Rays: through the shared diagonal (where
+// both triangles may hit and the second is accepted only nearer), through
+// the vertices and the outer edges, grazing (within 1e-7 .. 1e-2 rad of the
+// plane), starting on the plane (spawned from it, both sides), random from
+// all around, with and without a nearer hit already known, tMin 0 and
+// negative (no side test).
+namespace {
+bool same_float(float a, float b) { return std::memcmp(&a, &b, 4) == 0; }
+} // namespace
+
+TEST(Triangle, PairIsTheTwoCallsBitForBit) {
+  Rng g(131);
+  long rays = 0, both = 0, second = 0, firstHits = 0, mismatches = 0;
+  for (int q = 0; q < 120; ++q) {
+    Vec3 a, b, c, d;
+    if (q == 0) {
+      a = v3(-7, 0, -7), b = v3(7, 0, -7), c = v3(7, 0, 7), d = v3(-7, 0, 7);
+    } else {
+      double w = std::ldexp(1.0, (int)uni(g, -6, 10)) * uni(g, 0.5, 1);
+      float side = (float)w;
+      D3 cen{uni(g, -1e4, 1e4), uni(g, -1e4, 1e4), uni(g, -1e4, 1e4)};
+      if (q % 3 == 0) cen = rand_ball(g, 20);
+      Vec3 o = fv(cen);
+      int ax = q % 3; // the plane's normal axis
+      auto put = [&](float u, float v) {
+        Vec3 p = o;
+        float* f = &p.x;
+        f[(ax + 1) % 3] += u;
+        f[(ax + 2) % 3] += v;
+        return p;
+      };
+      a = put(0, 0), b = put(side, 0), c = put(side, side), d = put(0, side);
+      if (q % 2) std::swap(b, d); // the other winding
+    }
+    Shape t1 = make_triangle(a, c, b), t2 = make_triangle(a, d, c);
+    if (std::memcmp(&t1.n, &t2.n, sizeof(Vec3)) || !same_float(t1.sideMargin, t2.sideMargin) ||
+        std::memcmp(&t1.b, &t2.c, sizeof(Vec3))) {
+      continue; // the rounding of the corners broke the precondition: not a pair
+    }
+    D3 A = dv(a), B = dv(b), C = dv(c), Dd = dv(d);
+    D3 n = unit(cross(C - A, B - A));
+    double L = norm(C - A);
+    for (int i = 0; i < 2500; ++i) {
+      int kind = i % 6;
+      D3 p, dir;
+      switch (kind) {
+      case 0:
+        p = A + (C - A) * uni(g, -0.01, 1.01);
+        break; // the diagonal
+      case 1:
+        p = (i / 6 % 4 == 0 ? A : i / 6 % 4 == 1 ? B : i / 6 % 4 == 2 ? C : Dd);
+        break;
+      case 2: { // the outer edges
+        D3 e0 = i / 6 % 2 ? A : C, e1 = i / 6 % 4 < 2 ? B : Dd;
+        p = e0 + (e1 - e0) * uni(g, 0, 1);
+        break;
+      }
+      default:
+        p = A + (B - A) * uni(g, -0.2, 1.2) + (Dd - A) * uni(g, -0.2, 1.2);
+        break;
+      }
+      if (kind == 3) { // grazing
+        D3 e1, e2;
+        frame(n, e1, e2);
+        double ph = uni(g, 0, 2 * M_PI), s = loguni(g, 1e-7, 1e-2) * (i % 2 ? 1 : -1);
+        dir = unit((e1 * std::cos(ph) + e2 * std::sin(ph)) + n * s);
+      } else {
+        dir = rand_unit(g);
+      }
+      Vec3 fd = fdir(dir), org;
+      if (kind == 4) { // starts on the plane (a spawned ray), either way
+        org = fv(p + n * (L * std::ldexp(1.0, -(int)uni(g, 10, 30)) * (i % 2 ? 1 : -1)));
+      } else {
+        org = fv(p - dir * (L * loguni(g, 1e-3, 3)));
+      }
+      float tMin = i % 7 == 0 ? -1.0f : 0.0f;
+      Ray ray{org, fd};
+      Hit h2, h1;
+      std::memset(&h2, 0x5a, sizeof(Hit));
+      h2.t = i % 5 == 0 ? (float)(L * uni(g, 0, 3)) : kHuge; // a nearer hit may be known
+      std::memcpy(&h1, &h2, sizeof(Hit));
+      int twoCalls = -1;
+      if (intersect_t(t1, ray, tMin, h2)) twoCalls = 0;
+      bool firstHit = twoCalls == 0;
+      if (intersect_t(t2, ray, tMin, h2)) twoCalls = 1;
+      int pair = intersect_pair(t1, t2, ray, tMin, h1) - 1;
+      ++rays;
+      firstHits += firstHit;
+      both += firstHit && twoCalls == 1;
+      second += twoCalls == 1;
+      if (pair != twoCalls || std::memcmp(&h1, &h2, sizeof(Hit))) ++mismatches;
+    }
+  }
+  std::printf("[ measured ] triangle pairs: %ld rays, %ld first hits, %ld second hits, %ld both "
+              "(second nearer), %ld mismatches\n",
+              rays, firstHits, second, both, mismatches);
+  EXPECT_GE(rays, 100000);
+  EXPECT_GE(firstHits, 10000);
+  EXPECT_GE(second, 10000);
+  EXPECT_GE(both, 1); // rays through the diagonal that hit both, the second nearer
+  EXPECT_EQ(mismatches, 0);
+}
+
+// plane_t() (shapes.h, kInlinePlane: the resumed tree's inline floor test)
+// against intersect_t(), bit for bit (found, hit.t, hit.piece, hit.local; a
+// miss leaves hit alone): rays going away from the plane (most of the
+// floor's tests), towards it, from on it (spawned, both sides), with |cos|
+// on both sides of kPlaneCosFloat (the float and the double path) and down
+// to 1e-12, exactly parallel, with a nearer hit already known; planes of
+// random normal and offset, and scene 1's floor.
+TEST(Plane, InlineTestIsIntersectTBitForBit) {
+  Rng g(137);
+  long rays = 0, hits = 0, nearParallel = 0, mismatches = 0;
+  for (int q = 0; q < 100; ++q) {
+    Shape pl = q == 0 ? make_plane(v3(0, 1, 0), 0.0f)
+                      : make_plane(fdir(rand_unit(g)), (float)uni(g, -100, 100));
+    D3 n = dv(pl.a), b = dv(pl.b);
+    for (int i = 0; i < 2000; ++i) {
+      D3 p = b + rand_ball(g, 50);
+      p = p - n * dot(p - b, n); // on the plane
+      double h = i % 4 == 0 ? std::ldexp(1.0, -(int)uni(g, 8, 30)) : uni(g, 0.01, 30);
+      D3 o = p + n * (i % 2 ? h : -h);
+      D3 dir;
+      int k = i % 5;
+      if (k == 0 || k == 1) { // near parallel, either side of kPlaneCosFloat
+        D3 e1, e2;
+        frame(n, e1, e2);
+        double ph = uni(g, 0, 2 * M_PI);
+        double s = (k == 0 ? loguni(g, 1e-12, 1e-3) : uni(g, 0.5, 2) / 4096) * (i % 3 ? 1 : -1);
+        if (i % 97 == 0) s = 0;
+        dir = e1 * std::cos(ph) + e2 * std::sin(ph) + n * s;
+        ++nearParallel;
+      } else {
+        dir = rand_unit(g);
+      }
+      Ray ray{fv(o), fdir(dir)};
+      Hit h1, h2;
+      std::memset(&h1, 0x5a, sizeof(Hit));
+      h1.t = i % 3 == 0 ? (float)uni(g, 0, 60) : kHuge;
+      std::memcpy(&h2, &h1, sizeof(Hit));
+      bool a = intersect_t(pl, ray, 0.0f, h1), c = plane_t(pl, ray, h2);
+      ++rays;
+      hits += a;
+      if (a != c || std::memcmp(&h1, &h2, sizeof(Hit))) ++mismatches;
+    }
+  }
+  std::printf("[ measured ] inline plane: %ld rays, %ld hits, %ld near parallel, %ld mismatches\n",
+              rays, hits, nearParallel, mismatches);
+  EXPECT_GE(rays, 200000);
+  EXPECT_GE(hits, 40000);
+  EXPECT_EQ(mismatches, 0);
+}

@@ -106,8 +106,15 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float c = dot3(a, dir_lanes(ray)), t;
   bool front;
   if (abs_bits(c) >= kPlaneCosFloat) {
+    // accept() written out, the side (c < 0) taken only on a hit: most
+    // calls (scene 1's floor under rays that go up) are misses.
     t = dot3(a, shape_b(s) - org_lanes(ray)) / c;
-    front = c < 0;
+    if (!(t > tMin)) return false;
+    if (!(t < hit.t)) return false;
+    hit.t = t;
+    hit.piece = c < 0 ? 1 : 0;
+    hit.local = 0.0f;
+    return true;
   } else {
     double cd = plane_cos(s, ray);
     if (cd == 0) return false; // parallel: no intersection (or the whole plane, ignored)
@@ -310,23 +317,35 @@ Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
 // functions U, V, W; a point on a shared edge gets the same edge function in
 // both triangles, so the ground quad's diagonal has no cracks. Edge functions
 // that come out exactly 0 are recomputed in double, as the paper does.
-bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+// The side test (below): true when the ray starts off the triangle's plane
+// and moves away from it. Reads a, n and sideMargin only.
+__attribute__((always_inline)) inline bool tri_away(const Shape& s, const Ray& ray, float tMin) {
   static_assert(__builtin_offsetof(Shape, n) + 16 <= sizeof(Shape), "n is followed by more");
   f4 n = lanes_at((const char*)&s + __builtin_offsetof(Shape, n));
   f4 ao = org_lanes(ray) - shape_a(s);
   float side = dot3(n, ao), away = dot3(n, dir_lanes(ray));
-  if (tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
-      abs_bits(side) > s.sideMargin * max_abs_bits(Vec3{ao[0], ao[1], ao[2]}))
-    return false; // starts off the plane and moves away from it (kSideRel)
-  // Components indexed by kx, ky, kz: loads from the vectors themselves (their
-  // bytes, at 4 i), not branches; each difference is the one s.a - ray.org
-  // etc. would give in that component.
-  static_assert(sizeof(Vec3) == 12, "x, y, z at bytes 0, 4, 8");
-  auto at = [](const Vec3& v, int i) {
-    float f;
-    __builtin_memcpy(&f, (const char*)&v + 4 * i, 4);
-    return f;
-  };
+  return tMin >= 0 && (side > 0 ? away > 0 : away < 0) &&
+         abs_bits(side) > s.sideMargin * max_abs_bits(Vec3{ao[0], ao[1], ao[2]});
+}
+
+// Components indexed by kx, ky, kz: loads from the vectors themselves (their
+// bytes, at 4 i), not branches; each difference is the one s.a - ray.org
+// etc. would give in that component.
+static_assert(sizeof(Vec3) == 12, "x, y, z at bytes 0, 4, 8");
+__attribute__((always_inline)) inline float at(const Vec3& v, int i) {
+  float f;
+  __builtin_memcpy(&f, (const char*)&v + 4 * i, 4);
+  return f;
+}
+
+// The ray's shear (Woop et al.): the axes and S, shared by every triangle
+// the ray is tested against.
+struct Shear {
+  int kx, ky, kz;
+  float Sx, Sy, Sz;
+};
+__attribute__((always_inline)) inline Shear shear_of(const Ray& ray) {
+  Shear h;
   float ax = abs_bits(ray.dir.x), ay = abs_bits(ray.dir.y), az = abs_bits(ray.dir.z);
   int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
@@ -337,24 +356,44 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     kx = ky;
     ky = tmp;
   }
-  float Sx = at(ray.dir, kx) / dz, Sy = at(ray.dir, ky) / dz, Sz = 1.0f / dz;
-  auto rel = [&](const Vec3& v, int i) { return at(v, i) - at(ray.org, i); };
-  float Az = rel(s.a, kz), Bz = rel(s.b, kz), Cz = rel(s.c, kz);
-  float Ax = rel(s.a, kx) - Sx * Az, Ay = rel(s.a, ky) - Sy * Az;
-  float Bx = rel(s.b, kx) - Sx * Bz, By = rel(s.b, ky) - Sy * Bz;
-  float Cx = rel(s.c, kx) - Sx * Cz, Cy = rel(s.c, ky) - Sy * Cz;
+  h.kx = kx;
+  h.ky = ky;
+  h.kz = kz;
+  h.Sx = at(ray.dir, kx) / dz;
+  h.Sy = at(ray.dir, ky) / dz;
+  h.Sz = 1.0f / dz;
+  return h;
+}
+
+// A vertex relative to the ray's origin, sheared: x, y in the plane
+// across the ray, z along kz.
+struct Sheared {
+  float x, y, z;
+};
+__attribute__((always_inline)) inline Sheared sheared(const Vec3& v, const Ray& ray,
+                                                      const Shear& h) {
+  float z = at(v, h.kz) - at(ray.org, h.kz);
+  return Sheared{(at(v, h.kx) - at(ray.org, h.kx)) - h.Sx * z,
+                 (at(v, h.ky) - at(ray.org, h.ky)) - h.Sy * z, z};
+}
+
+// The watertight test's second half for sheared vertices A, B, C: edge
+// functions, their signs and zeros, t. Edge functions of both signs: the ray
+// passes beside the triangle. A float edge function that is not 0 has the
+// exact one's sign (the two products round monotonically: the larger to no
+// less than the smaller), and so has its recompute in double (exact
+// products, one rounding), but for an exact value under 2^-150, which rounds
+// to a float 0: a difference of products of floats that small needs a
+// factor under ~2^-52 at the domain's sizes (<= 2^33): a ray that close to
+// the triangle's edges, in the band of THE INTERSECTION CONTRACT (2^-16 of R
+// >= 2^-32). So two of opposite signs answer "beside" whatever the third,
+// recomputed or not: that test comes first, and the zeros are looked for
+// only on the rays that pass it (a miss leaves 12 instructions sooner; round
+// thirteen).
+__attribute__((always_inline)) inline bool tri_edges(Sheared A, Sheared B, Sheared C, float Sz,
+                                                     float tMin, Hit& hit) {
+  float Ax = A.x, Ay = A.y, Bx = B.x, By = B.y, Cx = C.x, Cy = C.y;
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
-  // Edge functions of both signs: the ray passes beside the triangle. A
-  // float edge function that is not 0 has the exact one's sign (the two
-  // products round monotonically: the larger to no less than the smaller),
-  // and so has its recompute in double (exact products, one rounding), but
-  // for an exact value under 2^-150, which rounds to a float 0: a difference
-  // of products of floats that small needs a factor under ~2^-52 at the
-  // domain's sizes (<= 2^33): a ray that close to the triangle's edges, in
-  // the band of THE INTERSECTION CONTRACT (2^-16 of R >= 2^-32). So
-  // two of opposite signs answer "beside" whatever the third, recomputed or
-  // not: that test comes first, and the zeros are looked for only on the
-  // rays that pass it (a miss leaves 12 instructions sooner; round thirteen).
   auto beside = [](float a, float b, float c) __attribute__((always_inline)) {
     return (a < 0 || b < 0 || c < 0) && (a > 0 || b > 0 || c > 0);
   };
@@ -367,9 +406,21 @@ bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   }
   float det = U + V + W;
   if (det == 0) return false; // ray in the triangle's plane: edge-on, no area seen
-  float T = U * Sz * Az + V * Sz * Bz + W * Sz * Cz;
+  float T = U * Sz * A.z + V * Sz * B.z + W * Sz * C.z;
   float t = T / det;
   return accept(t, tMin, 0, 0.0f, hit);
+}
+
+// Watertight ray/triangle test: Woop, Benthin, Wald, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1), 2013. Shear so the ray is +z, then 2D edge
+// functions U, V, W; a point on a shared edge gets the same edge function in
+// both triangles, so the ground quad's diagonal has no cracks. Edge functions
+// that come out exactly 0 are recomputed in double, as the paper does.
+bool hit_triangle(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
+  if (tri_away(s, ray, tMin)) return false; // starts off the plane and moves away (kSideRel)
+  Shear h = shear_of(ray);
+  return tri_edges(sheared(s.a, ray, h), sheared(s.b, ray, h), sheared(s.c, ray, h), h.Sz, tMin,
+                   hit);
 }
 
 } // namespace
@@ -389,6 +440,23 @@ bool intersect_t(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
     return false;
   }
   return false;
+}
+
+// Two triangles of a pair (kPairNext, shapes.h) as two intersect_t() calls
+// in index order would test them: the side test, the shear and the shared
+// vertices are the same operations on the same floats for both (first.a ==
+// second.a, first.n == second.n, first.sideMargin == second.sideMargin,
+// first.b == second.c, bit for bit), so they are done once; each
+// triangle's edge functions and t are its own call's, in its order, and the
+// second is accepted against the first's hit.t. Returns 0 (no hit), 1 (the
+// first's hit) or 2 (the second's).
+int intersect_pair(const Shape& first, const Shape& second, const Ray& ray, float tMin, Hit& hit) {
+  if (tri_away(first, ray, tMin)) return 0;
+  Shear h = shear_of(ray);
+  Sheared A = sheared(first.a, ray, h), B = sheared(first.b, ray, h);
+  int found = tri_edges(A, B, sheared(first.c, ray, h), h.Sz, tMin, hit);
+  if (tri_edges(A, sheared(second.b, ray, h), B, h.Sz, tMin, hit)) found = 2;
+  return found;
 }
 
 // The outward normal of each kind, then one face_ray() for all (a copy per kind

@@ -190,6 +190,35 @@ __attribute__((always_inline)) inline void plane_normal(const Shape& s, Hit& hit
   hit.normal = hit.front ? s.a : -s.a;
 }
 
+// A triangle pair: a triangle whose caps hold kPairNext shares its vertex a,
+// its n and sideMargin, bit for bit, with the scene's next object, a
+// triangle whose c is this one's b (two halves of a quad, the diagonal a-b
+// between them; scenes.cpp's stage). intersect_pair() tests both as two
+// intersect_t() calls in index order would, the same bits, with one side
+// test and one shear: a tracer that would test both may call it instead.
+enum : u8 { kPairNext = 4 };
+RT64K_HOT_ABI int intersect_pair(const Shape& first, const Shape& second, const Ray& ray,
+                                 float tMin, Hit& hit);
+
+// A plane whose caps hold kInlinePlane (scene 1's floor) is tested by the
+// resumed tree with plane_t() inline: hit_plane()'s float path (shapes.cpp)
+// written out with tMin = 0, the same operations in the same order (dot()
+// sums x, y, z as dot3() does), so the same bits; nearer parallel it calls
+// intersect_t() for the double path. Most of its tests are misses (rays
+// going up from the floor), which then cost no call.
+enum : u8 { kInlinePlane = 8 };
+__attribute__((always_inline)) inline bool plane_t(const Shape& s, const Ray& ray, Hit& hit) {
+  float c = dot(s.a, ray.dir);
+  if (!(__builtin_fabsf(c) >= kPlaneCosFloat)) return intersect_t(s, ray, 0.0f, hit);
+  float t = dot(s.a, s.b - ray.org) / c;
+  if (!(t > 0.0f)) return false;
+  if (!(t < hit.t)) return false;
+  hit.t = t;
+  hit.piece = c < 0 ? 1 : 0;
+  hit.local = 0.0f;
+  return true;
+}
+
 // Writes the outward normal turned to face the ray, and hit.front.
 __attribute__((always_inline)) inline void face_ray(Vec3 outward, const Ray& ray, Hit& hit) {
   bool front = dot(outward, ray.dir) < 0;

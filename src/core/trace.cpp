@@ -96,9 +96,10 @@ inline u32 range_mask(int begin, int end) {
 // hit.normal and hit.front are left unset: hit_normal() fills them. Inlined
 // into trace_tree (the call and its register saves cost ~20 instructions a
 // secondary ray) and first_hit.
+template <bool Pairs = false>
 __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray, Hit& hit,
                                                   u32 range, u32 foreground) {
-  return nearest_among(s, ray, bound_mask(s, ray, range), hit, foreground);
+  return nearest_among<Pairs>(s, ray, bound_mask(s, ray, range), hit, foreground);
 }
 
 // Light transmitted from p towards a light at distance `dist` along unit L:
@@ -289,7 +290,7 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
       if (only && intersect_t(s.objects[only - 1].shape, ray, 0.0f, hit))
         id = (int)only - 1;
       else
-        id = nearest(s, ray, hit, all & ~skip, foreground);
+        id = nearest<Resume>(s, ray, hit, all & ~skip, foreground); // pairs: the tool's copy
     }
     u32* node = nullptr;
     bool recordable = depth <= kRecordDepth && weight >= kRecordWeight;

@@ -243,6 +243,13 @@ int first_hit(const Scene& scene, const Ray& ray, Hit& hit);
 // t, piece and local (first_hit() and the packet tracer's scalar path).
 // `foreground` is the mask of objects [0, numForeground), which a caller
 // that searches many rays (trace_tree) computes once.
+// Pairs: a triangle pair (kPairNext, shapes.h) whose halves are both
+// candidates is tested by one intersect_pair() call, and a plane flagged
+// kInlinePlane by plane_t() without a call (the same answers, the same
+// bits); only the resumed tree (the native tool's) takes them: the exe's
+// copy stays without them (its bytes; docs/tracer-speed.md, round
+// thirteen, second wave).
+template <bool Pairs = false>
 inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hit, u32 foreground) {
   hit.t = kHuge;
   int found = -1;
@@ -253,7 +260,15 @@ inline int nearest_among(const Scene& s, const Ray& ray, u32 candidates, Hit& hi
   if (found >= 0) return found;
   for (u32 m = candidates & ~foreground; m; m &= m - 1) {
     int i = __builtin_ctz(m);
-    if (intersect_t(s.objects[i].shape, ray, 0.0f, hit)) found = i;
+    const Shape& sh = s.objects[i].shape;
+    if (Pairs && (sh.caps & kPairNext) && (m >> (i + 1) & 1)) { // both halves of a pair
+      int r = intersect_pair(sh, s.objects[i + 1].shape, ray, 0.0f, hit);
+      if (r) found = i + r - 1;
+      m &= ~(2u << i);
+    } else if (Pairs && (sh.caps & kInlinePlane)) { // the floor without a call (shapes.h)
+      if (plane_t(sh, ray, hit)) found = i;
+    } else if (intersect_t(sh, ray, 0.0f, hit))
+      found = i;
   }
   return found;
 }

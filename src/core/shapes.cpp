@@ -106,15 +106,7 @@ bool hit_plane(const Shape& s, const Ray& ray, float tMin, Hit& hit) {
   float c = dot3(a, dir_lanes(ray)), t;
   bool front;
   if (abs_bits(c) >= kPlaneCosFloat) {
-    // accept() written out, the side (c < 0) taken only on a hit: most
-    // calls (scene 1's floor under rays that go up) are misses.
-    t = dot3(a, shape_b(s) - org_lanes(ray)) / c;
-    if (!(t > tMin)) return false;
-    if (!(t < hit.t)) return false;
-    hit.t = t;
-    hit.piece = c < 0 ? 1 : 0;
-    hit.local = 0.0f;
-    return true;
+    return plane_accept(dot3(a, shape_b(s) - org_lanes(ray)) / c, c, tMin, hit);
   } else {
     double cd = plane_cos(s, ray);
     if (cd == 0) return false; // parallel: no intersection (or the whole plane, ignored)

@@ -207,16 +207,21 @@ RT64K_HOT_ABI int intersect_pair(const Shape& first, const Shape& second, const 
 // intersect_t() for the double path. Most of its tests are misses (rays
 // going up from the floor), which then cost no call.
 enum : u8 { kInlinePlane = 8 };
-__attribute__((always_inline)) inline bool plane_t(const Shape& s, const Ray& ray, Hit& hit) {
-  float c = dot(s.a, ray.dir);
-  if (!(__builtin_fabsf(c) >= kPlaneCosFloat)) return intersect_t(s, ray, 0.0f, hit);
-  float t = dot(s.a, s.b - ray.org) / c;
-  if (!(t > 0.0f)) return false;
+// A plane's hit at t, its cos c from the float path: accept() written out,
+// the side (c < 0) taken only on a hit, since most tests are misses
+// (hit_plane() in shapes.cpp and plane_t() below).
+__attribute__((always_inline)) inline bool plane_accept(float t, float c, float tMin, Hit& hit) {
+  if (!(t > tMin)) return false;
   if (!(t < hit.t)) return false;
   hit.t = t;
   hit.piece = c < 0 ? 1 : 0;
   hit.local = 0.0f;
   return true;
+}
+__attribute__((always_inline)) inline bool plane_t(const Shape& s, const Ray& ray, Hit& hit) {
+  float c = dot(s.a, ray.dir);
+  if (!(__builtin_fabsf(c) >= kPlaneCosFloat)) return intersect_t(s, ray, 0.0f, hit);
+  return plane_accept(dot(s.a, s.b - ray.org) / c, c, 0.0f, hit);
 }
 
 // Writes the outward normal turned to face the ray, and hit.front.

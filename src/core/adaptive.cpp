@@ -31,7 +31,7 @@ typedef short v8s __attribute__((vector_size(16)));
 typedef char v16c __attribute__((vector_size(16)));
 typedef i32 v4i_unaligned __attribute__((vector_size(16), aligned(4), may_alias));
 typedef float v4f __attribute__((vector_size(16)));
-typedef long long v2di __attribute__((vector_size(16)));
+typedef long long v2ll __attribute__((vector_size(16)));
 
 // The four records equal (same_path() of a with each of b, c, d, in
 // trace.cpp), without its loops or branches: the count and nodes 0-2 as one
@@ -58,8 +58,8 @@ inline v4i corner_colours(const CornerSample& a, const CornerSample& b, const Co
                           const CornerSample& d) {
   v4i va = {(i32)a.packed, 0, 0, 0}, vb = {(i32)b.packed, 0, 0, 0};
   v4i vc = {(i32)c.packed, 0, 0, 0}, vd = {(i32)d.packed, 0, 0, 0};
-  return (v4i)__builtin_ia32_punpcklqdq128((v2di)__builtin_ia32_punpckldq128(va, vb),
-                                           (v2di)__builtin_ia32_punpckldq128(vc, vd));
+  return (v4i)__builtin_ia32_punpcklqdq128((v2ll)__builtin_ia32_punpckldq128(va, vb),
+                                           (v2ll)__builtin_ia32_punpckldq128(vc, vd));
 }
 
 // Per block or per band, not per pixel: kept out of line, which saves bytes
@@ -832,7 +832,6 @@ inline v16c pack_pixels(v4f p0, v4f p1, v4f p2, v4f p3) {
 
 inline u32 pack_pixel(v4f p) { return (u32)((v4i)pack_pixels(p, p, p, p))[0]; }
 
-typedef long long v2ll __attribute__((vector_size(16)));
 typedef u64 u64_unaligned __attribute__((aligned(4), may_alias));
 
 // Rounds the row values Q = P + 2^(shift-1) - 1 of the exact path below to

@@ -1,5 +1,6 @@
 // shapes.cpp - ray/shape intersection under the contract in shapes.h.
 #include "shapes.h"
+#include "packet/lanes.h" // f4, i4, lanes_at (header only: no packet code)
 
 namespace {
 
@@ -15,18 +16,11 @@ inline float max_abs_bits(Vec3 a) {
 // dot3() sums the products (x + y) + z as dot() does, so the same
 // expressions give the same bits as with Vec3 (round thirteen,
 // docs/tracer-speed.md).
-typedef float f4 __attribute__((vector_size(16)));
-typedef i32 i4 __attribute__((vector_size(16)));
 
 // x, y, z of a Shape's a or b, or of a Ray's org, read as 16 bytes of the
 // struct: the fourth lane is the float that follows in it.
 static_assert(__builtin_offsetof(Shape, b) + 16 <= sizeof(Shape), "b is followed by c");
 static_assert(__builtin_offsetof(Ray, org) == 0 && sizeof(Ray) == 24, "org, then dir");
-__attribute__((always_inline)) inline f4 lanes_at(const void* p) {
-  f4 r;
-  __builtin_memcpy(&r, p, 16);
-  return r;
-}
 __attribute__((always_inline)) inline f4 shape_a(const Shape& s) {
   return lanes_at((const char*)&s + __builtin_offsetof(Shape, a));
 }

@@ -2,6 +2,7 @@
 // Cook-Torrance shading.
 #include "trace.h"
 
+#include "packet/lanes.h"
 #include "packet/packet.h"
 
 bool same_path(const PathRecord& a, const PathRecord& b) {
@@ -13,20 +14,13 @@ bool same_path(const PathRecord& a, const PathRecord& b) {
 
 namespace {
 
-typedef float f4 __attribute__((vector_size(16)));
-typedef int i4 __attribute__((vector_size(16)));
-
 // A colour in an SSE register's lanes x, y, z (lane 3 a finite float that
 // no result reads): the light loop's products and sums lane for lane, as
 // mulss and addss round them (lanes.h). `at` loads the 16 bytes from v (a
 // Material's colour: lane 3 its diffuse); `after` the 16 bytes that end
 // with v, rotated (lane 3 the float before v: a Light's pos.z, Scene's
 // background.z), so that no load reaches past the object or into an int.
-inline f4 at(const Vec3& v) {
-  f4 r;
-  __builtin_memcpy(&r, &v, 16);
-  return r;
-}
+inline f4 at(const Vec3& v) { return lanes_at(&v); }
 inline f4 after(const Vec3& v) {
   i4 q;
   __builtin_memcpy(&q, (const char*)&v - 4, 16);
@@ -41,7 +35,6 @@ inline f4 after0(const Vec3& v) {
   __builtin_memcpy(&q, (const char*)&v - 4, 16);
   return (f4)(__builtin_ia32_pshufd(q, 0x39) & keep);
 }
-inline f4 splat(float x) { return (f4){x, x, x, x}; }
 // The x, y, z lanes of a sum or a colour (trace_tree's, in lanes).
 inline Vec3 xyz(f4 v) { return Vec3{v[0], v[1], v[2]}; }
 
@@ -120,7 +113,7 @@ __attribute__((always_inline)) inline int nearest(const Scene& s, const Ray& ray
 // which intro.exe does not link (--gc-sections drops it).
 __attribute__((always_inline)) inline f4 shadow_test(const Scene& s, const Ray& ray, float dist,
                                                      u32 mask, int& code, u32 exits) {
-  f4 t = splat(1.0f);
+  f4 t = f4_of(1.0f);
   int crossed = 0;
   for (; mask; mask &= mask - 1) {
     int i = __builtin_ctz(mask);
@@ -130,7 +123,7 @@ __attribute__((always_inline)) inline f4 shadow_test(const Scene& s, const Ray& 
     const Material& m = s.objects[i].mat;
     if (m.transmit <= 0) {
       code = 3;
-      return splat(0.0f);
+      return f4_of(0.0f);
     }
     t = t * (at(m.color) * m.transmit);
     ++crossed;
@@ -431,7 +424,7 @@ static RT64K_HOT_ABI f4 trace_tree(TraceContext& ctx, const Ray& first, int id, 
           // A ray the records leave out whose term can move the pixel by less
           // than kShadowSkip casts no shadow ray: it counts as lit (with or
           // without a record, the colour is the same).
-          f4 through = splat(1.0f);
+          f4 through = f4_of(1.0f);
           if (recordable || weight * max_abs(xyz(lit)) >= kShadowSkip) {
             bool exits = inside && s.lightC[li][id] > 0;
             shadow.dir = L;
@@ -621,7 +614,6 @@ CameraRays camera_rays(const Scene& scene, int width, int height) {
 // below; -Inf, NaN and huge negatives convert to INT_MIN).
 namespace {
 
-typedef int i4 __attribute__((vector_size(16)));
 typedef short s8 __attribute__((vector_size(16)));
 typedef char c16 __attribute__((vector_size(16)));
 

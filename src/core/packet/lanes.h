@@ -12,6 +12,13 @@
 typedef float f4 __attribute__((vector_size(16)));
 typedef i32 i4 __attribute__((vector_size(16)));
 
+// The 16 bytes at p, any alignment (one movups): a Vec3 and the float that
+// follows it in its struct, say (the scalar kernels' x, y, z lanes).
+__attribute__((always_inline)) inline f4 lanes_at(const void* p) {
+  f4 r;
+  __builtin_memcpy(&r, p, 16);
+  return r;
+}
 inline f4 f4_of(float a) { return f4{a, a, a, a}; }
 inline i4 i4_of(i32 a) { return i4{a, a, a, a}; }
 inline f4 lane_abs(f4 x) { return (f4)((i4)x & i4_of(0x7fffffff)); }

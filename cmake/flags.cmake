@@ -60,6 +60,16 @@ set(RT64K_HOT_FLAGS_rtmath -Os ${RT64K_HOT_FLAGS_ALL})
 set(RT64K_HOT_FLAGS_trace ${RT64K_HOT_FLAGS_ALL} -fno-ivopts)
 set(RT64K_HOT_FLAGS_primary ${RT64K_HOT_FLAGS_ALL} -fno-caller-saves -fno-tree-pre)
 
+# The packet sources (src/core/packet/*.cpp: the native tool's alone, never
+# in intro.exe), after RT64K_CORE_FLAGS. Round fourteen (shade21) priced the
+# code-size flags' opposites on them alone by callgrind (13 s adaptive8:
+# docs/tracer-speed.md "Round fourteen"): none lowered the instructions by
+# more than 0.02 %, all ten together +0.43 %; so none here. Measurement
+# builds add RT64K_PACKET_EXTRA (-D..., a list) after them, say
+# -fschedule-insns2 and -freorder-blocks, which move no instruction count
+# (callgrind cannot price them) and are left to a timed A/B.
+set(RT64K_PACKET_FLAGS)
+
 # Sources that run once per frame or once per run (scene building, captions,
 # the synth at start-up): compiled at -Os instead of -O2 in every build, to
 # save bytes where speed does not matter. An optimisation level changes no

@@ -408,6 +408,16 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   i4 recordable = depth <= kRecordDepth ? W >= f4_of(kRecordWeight) : i4_of(0);
   u32 records = lane_bits(recordable | (pastGlass ? W >= f4_of(kRecordWeightGlass) : recordable));
 
+  // Where each lane's node is written: its own for the lanes of `have`,
+  // else `spare` (written, never read). The stores below go to all four
+  // lanes without a test of the lane's bit (the bits follow the rays' data
+  // and mispredict); a node's child is read only where its waiting bit is
+  // set, so a lane of `have` may receive a child it does not cast.
+  PreNode spare;
+  PreNode* out[4];
+#pragma GCC unroll 4
+  for (int k = 0; k < 4; ++k)
+    out[k] = have >> k & 1 ? dst[k] : &spare;
   i4 waiting = i4_of(0);
   if (depth < maxDepth) {
     f4 transmit = f4_of(mt.transmit);
@@ -449,14 +459,14 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
       PendingRows rayR(p + N * offR, R, W * fR, skR);
 #pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
-        if (castR >> k & 1) rayR.put(k, dst[k]->child[1], pastGlass);
+        rayR.put(k, out[k]->child[1], pastGlass);
     }
     if (castT) {
       i4 skT = flatL | (front ? dT > zero : dT < zero) ? i4_of((i32)self) : onlyL;
       PendingRows rayT(p + N * offT, T, W * transmit, skT);
 #pragma GCC unroll 4
       for (int k = 0; k < 4; ++k)
-        if (castT >> k & 1) rayT.put(k, dst[k]->child[0], true);
+        rayT.put(k, out[k]->child[0], true);
     }
   }
 
@@ -530,13 +540,12 @@ __attribute__((noinline)) bool shade_child4(TraceContext& ctx, const Pending* co
   f4 nw[2] = {__builtin_ia32_unpcklps((f4)node, (f4)waiting),
               __builtin_ia32_unpckhps((f4)node, (f4)waiting)};
 #pragma GCC unroll 4
-  for (int k = 0; k < 4; ++k)
-    if (have >> k & 1) {
-      char* pre = (char*)dst[k];
-      __builtin_memcpy(pre + __builtin_offsetof(PreNode, records), &rc[k], 16);
-      __builtin_memcpy(pre + __builtin_offsetof(PreNode, node),
-                       (const char*)&nw[k >> 1] + 8 * (k & 1), 8);
-    }
+  for (int k = 0; k < 4; ++k) {
+    char* pre = (char*)out[k];
+    __builtin_memcpy(pre + __builtin_offsetof(PreNode, records), &rc[k], 16);
+    __builtin_memcpy(pre + __builtin_offsetof(PreNode, node),
+                     (const char*)&nw[k >> 1] + 8 * (k & 1), 8);
+  }
   return true;
 }
 

@@ -210,6 +210,43 @@ TEST(Packet, RandomPixelsOfRandomFramesMatchInColourAndRecord) {
   EXPECT_GT(m.rays, 25000);
 }
 
+TEST(Packet, ShortPacketsReadButDoNotUseTheLanesPastTheirCount) {
+  // trace_primary4() loads all four x and y (packet.h); lanes k >= count
+  // hold values no pixel has (NaN, infinities, 1e30, a negative pixel) and
+  // must change nothing: the colours, records and ray counts of the lanes
+  // k < count as trace(), the colours of the others left alone.
+  const float junk[] = {std::nanf(""), INFINITY, -INFINITY, 1e30f, -1e30f, -5.0f};
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<float> tt(0.0f, 64.0f), px(0.0f, 799.0f), py(0.0f, 599.0f);
+  Mismatch m;
+  long untouched = 0, past = 0;
+  for (int frame = 0; frame < 12; ++frame) {
+    Scene s;
+    build_timeline_scene(s, tt(rng));
+    CameraRays cam = camera_rays(s, 800, 600);
+    for (int p = 0; p < 120; ++p) {
+      int count = 1 + p % 3;
+      float xs[4], ys[4];
+      for (int k = 0; k < 4; ++k) {
+        xs[k] = k < count ? std::floor(px(rng)) : junk[(p + k) % 6];
+        ys[k] = k < count ? std::floor(py(rng)) : junk[(p + 2 * k + 1) % 6];
+      }
+      compare_pixels(s, cam, xs, ys, count, m);
+      Vec3 color[4];
+      const Vec3 sentinel = v3(-7.0f, -8.0f, -9.0f);
+      for (int k = 0; k < 4; ++k)
+        color[k] = sentinel;
+      RayStats stats{0, 0, 0};
+      trace_primary4(s, cam, xs, ys, count, color, nullptr, &stats);
+      for (int k = count; k < 4; ++k, ++past)
+        untouched += same_bits(color[k], sentinel);
+    }
+  }
+  expect_none(m, "short packets with junk past their count");
+  EXPECT_EQ(untouched, past);
+  EXPECT_GT(m.rays, 2000);
+}
+
 // Rays tangent to each sphere of the scene, within -4..+4 ulps of the
 // tangent angle: half of them just hit, half just miss, and the hit/miss
 // decision and t must be the scalar tracer's.

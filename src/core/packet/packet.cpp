@@ -252,12 +252,13 @@ Dirs pixel_dirs(const CameraRays& c, f4 x, f4 y) {
   return Dirs{{ok ? vx * inv : zero, ok ? vy * inv : f4_of(1.0f), ok ? vz * inv : zero}};
 }
 
-// Lanes k >= count repeat lane 0, so that every lane holds a valid ray.
+// v[0..3] in lanes (all four read: trace_primary4's contract), lanes k >=
+// count replaced by lane 0, so that every lane holds a valid ray. One load
+// and a select, no per-lane branch or loop (count varies with the caller's
+// batch; the rolled loop cost ~32 instructions a call and mispredicted).
 f4 load_lanes(const float* v, int count) {
-  f4 r;
-  for (int k = 0; k < 4; ++k)
-    r[k] = v[k < count ? k : 0];
-  return r;
+  f4 r = lanes_at(v);
+  return i4{0, 1, 2, 3} < i4_of(count) ? r : f4_of(r[0]);
 }
 
 } // namespace

@@ -312,6 +312,9 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
   // The misses here; the hits' shading points in lanes (packet/shade.h).
   u32 hits = lane_bits(st.id >= i4_of(0)) & live;
   ctx.stats.primary = 0x4332322132212110ull >> 4 * live & 15; // live's bits, counted
+  // The hits first: shade_primary4 writes all four paths[k] (shade.h).
+  if (hits)
+    shade_primary4(ctx, cam.org, d.v, Hits4{st.t, st.id, st.piece, st.local}, hits, paths, color);
   for (u32 m = live & ~hits; m; m &= m - 1) {
     int k = __builtin_ctz(m);
     if (paths) {
@@ -320,8 +323,6 @@ void trace_lanes(const Scene& scene, const CameraRays& cam, f4 x, f4 y, u32 live
     }
     color[k] = trace_miss(ctx, 1, 1.0f);
   }
-  if (hits)
-    shade_primary4(ctx, cam.org, d.v, Hits4{st.t, st.id, st.piece, st.local}, hits, paths, color);
   stats->primary += ctx.stats.primary;
   stats->secondary += ctx.stats.secondary;
   stats->shadow += ctx.stats.shadow;

@@ -34,10 +34,12 @@ Vec3 trace_primary(TraceContext& ctx, const CameraRays& cam, float x, float y);
 
 // Up to four primary samples at once: for lanes k < count (1..4), the
 // pixel (x[k], y[k]) gets color[k] = trace_primary() of it. When `paths` is
-// not null, paths[k] is reset and receives the sample's PathRecord. The
+// not null (four records), paths[k] is reset and receives the sample's
+// PathRecord, and the records of lanes k >= count may be overwritten. The
 // shadow and secondary rays cast are added to *stats, and `count` primary
-// rays. Lanes k >= count are left alone. x and y hold four readable floats
-// each: all four are loaded, those of lanes k >= count not used.
+// rays. The colours of lanes k >= count are left alone. x and y hold four
+// readable floats each: all four are loaded, those of lanes k >= count not
+// used.
 RT64K_HOT_ABI void trace_primary4(const Scene& scene, const CameraRays& cam, const float x[4],
                                   const float y[4], int count, Vec3 color[4], PathRecord* paths,
                                   RayStats* stats);

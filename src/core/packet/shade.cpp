@@ -987,7 +987,7 @@ void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h
                 (i4)__builtin_ia32_unpckhps((f4)i4_of(1), (f4)node)};
 #pragma GCC unroll 4
     for (int k = 0; k < 4; ++k)
-      if (lanes >> k & 1) __builtin_memcpy(&paths[k], (const char*)&cn[k >> 1] + 8 * (k & 1), 8);
+      __builtin_memcpy(&paths[k], (const char*)&cn[k >> 1] + 8 * (k & 1), 8);
   }
   // The second level: the refracted children into a lone solid (second4()).
   u32 shaded = 0;

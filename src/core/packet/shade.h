@@ -38,8 +38,10 @@ struct Hits4 {
 // from org along unit (dir[0][k], dir[1][k], dir[2][k]) hitting object
 // h.id[k] (Hit t, piece and local from h): color[k] = trace_hit(ctx, ray,
 // id, hit, 1, 1). All four lanes of h are read (those outside `lanes` may
-// hold anything). When `paths` is set, paths[k] receives the lane's record
-// (its count is set here). Rays are counted in ctx.stats as trace_hit
+// hold anything). When `paths` is set (four records), paths[k] receives
+// lane k's record (its count is set here); the records of the lanes outside
+// `lanes` are overwritten too (the first node's store goes to all four
+// lanes, no per-lane test), for the caller to write after this call. Rays are counted in ctx.stats as trace_hit
 // counts them.
 RT64K_HOT_ABI void shade_primary4(TraceContext& ctx, Vec3 org, const f4 dir[3], const Hits4& h,
                                   u32 lanes, PathRecord* paths, Vec3 color[4]);

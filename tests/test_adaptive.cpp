@@ -429,45 +429,6 @@ TEST(AdaptiveFrame, BandsQueueHandsOutEachBandOnceAfterItsNeighbours) {
   }
 }
 
-// The bands' order on one thread (25 bands): even bands from the bottom up;
-// an odd band, ready once both neighbours ran, is held back until the even
-// bands handed out are 4 odd bands past it (adaptive.cpp: kOddLag), then
-// comes before the next even band; once no even band is left, the odd
-// bands kept back follow one after another. Fails with odd bands handed out
-// as soon as they are ready (kOddLag 1: 24, 22, 23, 20, 21, ...).
-TEST(AdaptiveFrame, BandsQueueKeepsOddBandsForTheEnd) {
-  Scene s;
-  build_timeline_scene(s, 44.0);
-  constexpr int kW = 64, kH = 200;
-  Image ref(kW, kH), img(kW, kH);
-  RenderOptions opt;
-  opt.threads = 1;
-  render_frame(s, ref, opt, nullptr);
-  std::vector<CornerSample> corners(size_t(adaptive_corner_count(kW, kH, 8)));
-  AdaptiveFrame f{};
-  f.scene = &s;
-  f.fb = img.pixels.data();
-  f.width = f.stride = kW;
-  f.height = kH;
-  f.baseBlock = 8;
-  f.minBlock = 2;
-  f.mode = kModeAdaptive;
-  f.corners = corners.data();
-  adaptive_begin(f);
-  ASSERT_EQ(adaptive_items(f), 25);
-  std::vector<int> order;
-  RayStats stats{0, 0, 0};
-  for (int b; (b = adaptive_take(f)) != kAdaptiveDone;) {
-    ASSERT_NE(b, kAdaptiveWait); // one thread: every band it waits for has run
-    order.push_back(b);
-    adaptive_run(f, b, &stats);
-  }
-  std::vector<int> want = {24, 22, 20, 18, 16, 23, 14, 21, 12, 19, 10, 17, 8,
-                           15, 6,  13, 4,  11, 2,  9,  0,  7,  5,  3,  1};
-  EXPECT_EQ(order, want);
-  EXPECT_EQ(img.pixels, ref.pixels);
-}
-
 // The renderer clears every slot state it reads (CornerSample::state: the
 // corners of each line in trace_line, a side's slots between them where a
 // base block first splits, open_side, the bands' scratch as it is taken): the

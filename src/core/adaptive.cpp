@@ -1003,18 +1003,19 @@ void adaptive_begin(AdaptiveFrame& f) {
 
 int adaptive_items(const AdaptiveFrame& f) { return f.gridH - 1; }
 
-// An odd band is held back while even bands remain until the even bands
-// handed out have moved more than kOddLag odd bands past it (nextOdd -
-// nextEven > 2 kOddLag), so that when the even bands run out, up to
-// kOddLag - 1 odd bands are ready for the threads that finish first instead
-// of all of them waiting for the last even bands' neighbours. 1 hands an odd
-// band out as soon as it is ready (round four's queue). 4 from a simulation
-// of 2 threads on per-band callgrind costs (est = Ir + 15 Bcm) of 29 frames
-// (docs/speed-vs-error.md, "Round fourteen: the bands' tail"): loss against
-// half the summed cost, mean 0.50 -> 0.27 %, worst 3.03 -> 1.46 %; scene 1's
-// 1.0 / 1.25 s 2.34 / 2.71 -> 0.98 / 0.63 %. An odd band then reads lines
-// that 4-5 even bands wrote ago instead of 1-2 (~0.3 MB between, in L2).
-constexpr int kOddLag = 4;
+// The frame's end: once only the last kTailEvens even bands (the top of the
+// picture: nextEven < 2 kTailEvens) are left to hand out, ready odd bands
+// are held back until none is left, so that when the even bands run out a
+// few odd bands are ready for the thread that finishes first, instead of
+// both odd bands next to the last costly even band waiting for it. Before
+// that, an odd band comes as soon as it is ready, right after its
+// neighbours (their lines still in the cache, the predictor trained on the
+// same rows). 5 from a simulation of 2 threads on per-band callgrind costs
+// (est = Ir + 15 Bcm) of 29 frames (docs/speed-vs-error.md, "Round
+// fourteen: the bands' tail"): loss against half the summed cost, mean
+// 0.50 -> 0.32 %, worst 3.03 -> 1.44 %; scene 1's 1.0 / 1.25 s 2.34 / 2.71
+// -> 1.44 / 0.56 %.
+constexpr int kTailEvens = 5;
 
 // The done flags are stored with release order after the band's last write
 // and loaded with acquire order before an odd band starts: what the even
@@ -1030,7 +1031,7 @@ int adaptive_take(const AdaptiveFrame& f) {
   for (;;) {
     i32 odd = __atomic_load_n(&q->nextOdd, __ATOMIC_RELAXED);
     i32 even = __atomic_load_n(&q->nextEven, __ATOMIC_RELAXED); // (< 0: none left)
-    if (odd > 0 && (even < 0 || odd - even > 2 * kOddLag) &&
+    if (odd > 0 && (even < 0 || even >= 2 * kTailEvens) &&
         __atomic_load_n(&q->done[odd - 1], __ATOMIC_ACQUIRE) &&
         (odd + 1 == bands || __atomic_load_n(&q->done[odd + 1], __ATOMIC_ACQUIRE))) {
       if (__atomic_compare_exchange_n(&q->nextOdd, &odd, odd - 2, false, __ATOMIC_RELAXED,

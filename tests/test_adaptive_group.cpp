@@ -392,3 +392,33 @@ TEST(AdaptiveFrame, ChildGroupsOfThirtyTwoStayInTheirScratch) {
     EXPECT_EQ(marked.pixels, img.pixels) << "t=" << t << ": with and without kinds map";
   }
 }
+
+// The bands' order on one thread (25 bands): even bands from the bottom up,
+// each odd band as soon as both neighbours ran, until only the last 5 even
+// bands (adaptive.cpp: kTailEvens; 8, 6, 4, 2, 0) are left: then the ready
+// odd band (11) is held back and the last even bands come in a row, the odd
+// bands after them. Fails with odd bands handed out as soon as they are
+// ready (kTailEvens 0: ..., 10, 11, 8, 9, ...).
+TEST(AdaptiveFrame, BandsQueueKeepsOddBandsForTheEnd) {
+  Scene s;
+  build_timeline_scene(s, 44.0);
+  constexpr int kW = 64, kH = 200;
+  Image ref(kW, kH), img(kW, kH);
+  RenderOptions opt;
+  opt.threads = 1;
+  render_frame(s, ref, opt, nullptr);
+  std::vector<CornerSample> corners(size_t(adaptive_corner_count(kW, kH, 8)));
+  AdaptiveFrame f = begun_frame(s, img, corners.data(), 8);
+  ASSERT_EQ(adaptive_items(f), 25);
+  std::vector<int> order;
+  RayStats stats{0, 0, 0};
+  for (int b; (b = adaptive_take(f)) != kAdaptiveDone;) {
+    ASSERT_NE(b, kAdaptiveWait); // one thread: every band it waits for has run
+    order.push_back(b);
+    adaptive_run(f, b, &stats);
+  }
+  std::vector<int> want = {24, 22, 23, 20, 21, 18, 19, 16, 17, 14, 15, 12, 13,
+                           10, 8,  6,  4,  2,  0,  11, 9,  7,  5,  3,  1};
+  EXPECT_EQ(order, want);
+  EXPECT_EQ(img.pixels, ref.pixels);
+}

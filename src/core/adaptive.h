@@ -39,7 +39,9 @@
 // only once both even bands next to it have finished (per-band done flags),
 // and two bands that run at once never touch the same sample. Even bands
 // are handed out from the last (the bottom of the picture) up; an odd band
-// whose neighbours are done comes first (odd bands too from the last up).
+// whose neighbours are done comes first (odd bands too from the last up),
+// except while the last few even bands are handed out (adaptive.cpp:
+// kTailEvens; a few odd bands kept ready for the frame's end).
 // No deadlock: adaptive_take() answers "wait" only when every even band has
 // been taken and the next odd band's neighbours are still running, and even
 // bands wait for nothing, so they finish and the odd band becomes ready.

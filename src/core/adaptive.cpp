@@ -143,7 +143,18 @@ constexpr int kMaxInterpolated = 8;
 // A side: its samples, each with its state (CornerSample::state).
 typedef Sample* Edge;
 
+// Sets e[0 .. count) unknown. Counts 5 to 9 (with base block 8 nearly every
+// call: a column's or side's inner 7, an inner line's 9 or 5) without a
+// loop: e[0 .. 4] and e[count - 4 .. count), which overlap; a loop's exit
+// at a count that varies from call to call was mispredicted about once a
+// call (4.0 k at 13 s).
 RT64K_HOT_ABI void clear_states(Edge e, int count) {
+  if ((unsigned)(count - 5) <= 4) {
+    Edge last = e + count;
+    e[0].state = e[1].state = e[2].state = e[3].state = e[4].state = kUnknown;
+    last[-4].state = last[-3].state = last[-2].state = last[-1].state = kUnknown;
+    return;
+  }
   for (; count >= 2; count -= 2, e += 2) // (two a step: half the loop's own work)
     e[0].state = e[1].state = kUnknown;
   if (count > 0) e->state = kUnknown;

@@ -126,6 +126,26 @@ TEST(AdaptiveInterpolate, FillOfEightPixelRowsWritesExactlyTheBlock) {
     }
 }
 
+// Copy of no row, one row or two: the rows counted by offset (8 and 2 px)
+// and the general rows write exactly those rows, for widths 0-9 (no row:
+// yEnd = y0, and yEnd one above y0, write nothing).
+TEST(AdaptiveInterpolate, FillOfNoRowOneRowOrTwoWritesExactlyThoseRows) {
+  constexpr int kStride = 16;
+  for (int rows = -1; rows <= 2; ++rows)
+    for (int w = 0; w <= 9; ++w) {
+      std::vector<uint32_t> fb(kStride * 6, 7u);
+      adaptive_fill(fb.data(), kStride, 3, 2, 3 + w, 2 + rows, 0xff204060u);
+      int written = 0;
+      for (int y = 0; y < 6; ++y)
+        for (int x = 0; x < kStride; ++x) {
+          bool in = x >= 3 && x < 3 + w && y >= 2 && y < 2 + rows;
+          ASSERT_EQ(fb[size_t(y * kStride + x)], in ? 0xff204060u : 7u) << rows << " " << w;
+          written += in;
+        }
+      EXPECT_EQ(written, rows > 0 ? rows * w : 0);
+    }
+}
+
 // In a frame, interpolated blocks go to the exact path unless the caller
 // keeps a kinds map (or the blocks view): then every one takes the float
 // path. Both give the same picture, at times of both scenes, for base

@@ -947,6 +947,49 @@ TEST(Cylinder, DegenerateDimensionsAreRejected) {
   }
 }
 
+// A side's normal, bit for bit, against frustum_outward()'s general steps
+// written out here with Vec3 (dot() sums x, y, z as the lanes' dot3() does):
+// q = (org - base) + t dir, p_perp = q - axis (q.axis), n = p_perp - axis
+// (k sqrt(|p_perp|^2)), n / |n| by 1 / sqrt, turned to face the ray. A
+// cylinder (k = +0) takes a shortcut in shapes.cpp (|n|^2 is |p_perp|^2 bit
+// for bit there); the cones, which do not, are checked the same way.
+// Random axes, also axis-aligned ones of both signs (exact zeros in p_perp
+// and in the axis), rays from outside and from inside.
+TEST(Frustum, SideNormalIsTheGeneralFormulaBitForBit) {
+  Rng g(131);
+  const Vec3 aligned[] = {v3(0, 1, 0), v3(0, -1, 0), v3(1, 0, 0), v3(0, 0, -1)};
+  int sides[2] = {0, 0}; // cylinders, cones
+  for (int i = 0; i < 20000; ++i) {
+    bool cone = i % 2 == 1;
+    Vec3 axis = i % 3 == 0 ? aligned[(i / 3) % 4] : fdir(rand_unit(g));
+    float r0 = (float)uni(g, 0.2, 2), h = (float)uni(g, 0.5, 4);
+    float r1 = cone ? (float)uni(g, 0, 1.9) : r0;
+    Vec3 base = i % 3 == 0 ? v3(0, 0, 0) : fv(rand_ball(g, 3));
+    Shape s = make_cone(base, axis, r0, r1, h, kCapBase | kCapTop);
+    ASSERT_EQ(s.kind, r1 == r0 ? kCylinder : kCone) << i;
+    D3 mid = dv(s.a) + dv(s.b) * (0.5 * s.h);
+    Vec3 o = i % 4 == 0 ? fv(mid + rand_ball(g, 0.1)) : fv(mid + rand_unit(g) * 6.0);
+    Vec3 d = fdir(mid + rand_ball(g, 1.5) - dv(o));
+    Cast c = cast(s, o, d);
+    if (!c.hit || c.h.piece != kPieceSide) continue;
+    ++sides[cone];
+    Vec3 ax = s.b;
+    Vec3 q = (o - s.a) + d * c.h.t;
+    Vec3 pPerp = q - ax * dot(q, ax);
+    float rho2 = dot(pPerp, pPerp);
+    ASSERT_LE(rho2, 1e20f) << i;
+    Vec3 n = pPerp - ax * (s.c.x * std::sqrt(rho2));
+    float len2 = dot(n, n);
+    Vec3 out = len2 > 1e-30f ? n * (1.0f / std::sqrt(len2)) : ax;
+    bool front = dot(out, d) < 0;
+    Vec3 want = front ? out : -out;
+    ASSERT_EQ(c.h.front, front) << i;
+    ASSERT_EQ(0, std::memcmp(&c.h.normal, &want, sizeof(Vec3))) << i << (cone ? " cone" : " cylinder");
+  }
+  EXPECT_GT(sides[0], 3000);
+  EXPECT_GT(sides[1], 3000);
+}
+
 // ---- cones (full cone: base at origin, axis +y, radius 1, height 2, base cap)
 
 Shape unit_cone() { return make_cone(v3(0, 0, 0), v3(0, 1, 0), 1, 0, 2, kCapBase); }

@@ -291,8 +291,22 @@ Vec3 frustum_outward(const Shape& s, const Ray& ray, const Hit& hit) {
     pPerp = pPerp * (1.0f / max_abs(Vec3{pPerp[0], pPerp[1], pPerp[2]}));
     rho2 = dot3(pPerp, pPerp);
   }
-  f4 n = pPerp - ax * (s.c.x * rt_sqrt(rho2));
-  float len2 = dot3(n, n);
+  f4 n;
+  float len2;
+  if (s.kind == kCylinder) {
+    // Slope c.x = +0 (make_cone(): r1 == r0), so c.x sqrt(rho2) is +0 for
+    // every rho2 this reaches (a NaN ends at the fallback both ways): n is
+    // pPerp less the same zeros, each of its squares pPerp's, and
+    // dot3(n, n) is rho2 bit for bit. So the same n and len2 without the
+    // first square root and the second sum on the normal's chain of
+    // latencies (a cylinder's normal: sqrt, div, mul instead of sqrt, mul,
+    // mul, sub, dot3, sqrt, div, mul).
+    n = pPerp - ax * 0.0f;
+    len2 = rho2;
+  } else {
+    n = pPerp - ax * (s.c.x * rt_sqrt(rho2));
+    len2 = dot3(n, n);
+  }
   if (!(len2 > 1e-30f)) return axis; // normalize()'s fallback
   n = n * (1.0f / rt_sqrt(len2));
   return Vec3{n[0], n[1], n[2]};

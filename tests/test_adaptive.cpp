@@ -430,8 +430,9 @@ TEST(AdaptiveFrame, BandsQueueHandsOutEachBandOnceAfterItsNeighbours) {
 }
 
 // The renderer clears every slot state it reads (CornerSample::state: the
-// corners of each line in trace_line, a side's slots between them where a
-// base block first splits, open_side, the bands' scratch as it is taken): the
+// corners of each line as flush stores them, trace_line only prefetching
+// them; a side's slots between them where a base block first splits,
+// open_side; the bands' scratch as it is taken): the
 // picture and the rays cast do not depend on what the caller's buffer held.
 // Rendered into a buffer of zeros, of seeded random bytes (states that look
 // known, estimated or pending, sides marked open), and one left by a frame of

@@ -716,20 +716,26 @@ RT64K_COLD RT64K_HOT_ABI void trace_line(Context& c, int k) {
   // its bottom too (run_band), so line 1 is neither traced nor read.
   if (k > 0 && y == grid_coord(k - 1, f.baseBlock, f.height)) return;
   // The corners (grid_coord: x = 0, baseBlock, ..., and the last column),
-  // each asked for as request() would, into the batch (the slots between
-  // them are open_side's); n kept in a register (the build has no strict
-  // aliasing).
+  // each asked for as request() would but without marking its slot pending,
+  // into the batch (the slots between them are open_side's); n kept in a
+  // register (the build has no strict aliasing). No state is read before
+  // run_band's flush, which marks every corner known (and so clears its
+  // kSideOpen). Each corner is a cache line of its own (320 B apart at base
+  // 8), cold since the previous frame: its store here stalled this loop once
+  // the store buffer filled, and a store in flush without the line held up
+  // the next packet (trace_primary4 reads its lanes back from the stack, a
+  // load that waits for every older store); so the line is prefetched here,
+  // a batch ahead of flush's store, and not written.
   Edge line = line_edge(f, k);
   Batch& b = c.batch;
   int n = b.n;
   float fy = (float)y;
   for (int x = 0;; x += f.baseBlock) {
     if (x > last) x = last;
-    Edge e = line + x;
-    e->state = kPending;
     b.x[n] = (float)x;
     b.y[n] = fy;
-    b.out[n] = e;
+    b.out[n] = line + x;
+    __builtin_prefetch(line + x); // (prefetcht0: SSE)
     b.pixel[n] = &b.sink;
     if (++n == kBatch) {
       b.n = n;

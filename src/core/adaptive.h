@@ -59,10 +59,15 @@ enum AdaptiveMode : u8 {
 
 // A traced sample: its packed colour and what the decision compares, and
 // the renderer's bookkeeping of the slot that keeps it (adaptive.cpp:
-// SlotState; not compared).
+// SlotState; not compared). The record first, at offset 0: a slot copied
+// whole (adaptive.cpp: copy_slot, two 16-byte stores and an 8-byte one) and
+// then read soon after by same_records (the record's two 16-byte halves) is
+// forwarded from the store buffer; with the record at offset 4 each of those
+// loads straddled two of the stores, a forward that fails and waits for
+// them to be written.
 struct CornerSample {
-  u32 packed;
   PathRecord path;
+  u32 packed;
   u8 state;
 };
 

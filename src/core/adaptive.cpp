@@ -114,6 +114,8 @@ inline bool estimate(const Sample& a, const Sample& b, Sample& mid) {
 // rays through glass are recorded deeper (trace.h, kRecordWeightGlass), so
 // the edges they see split by records, and the limits rose from {16, 24}.
 constexpr int kGlassContrast[2] = {18, 64};
+static_assert(kGlassContrast[0] <= kGlassContrast[1],
+              "process_group tests the smaller limit first: a block over the larger is over it");
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
@@ -605,8 +607,11 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
       kind = kCopied;
     } else if ((cv = corner_colours(c00, c10, c01, c11), f.mode != kModeAdaptive) ||
+               // The glass limit: kGlassContrast[0] for every size first (most
+               // blocks pass it), the size and the larger limit only where it fails.
                // The four records are equal, so c00's stands for all.
-               (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
+               (!low_contrast(cv, kGlassContrast[0]) &&
+                (!is_small(f, w, h) || !low_contrast(cv, kGlassContrast[1])) && sees_glass(f, c00))) {
       kind = kSplit;
     }
     if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;

@@ -475,17 +475,22 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
-// interpolate_block.
+// interpolate_block, but for a block wider or taller than kMaxInterpolated:
+// returns false, nothing written (the block splits). The size test here, past
+// the exact path's, not for every block that would be interpolated.
 // w and h are the block's x1 - x0 and y1 - y0 (the caller's: the build has
 // no strict aliasing, so the node's fields would be loaded again).
-inline void interpolate(const Context& c, const Node& b, int w, int h, v4i corners) {
+static_assert(kMaxInterpolated >= 8, "the exact path's blocks (2, 4, 8 px) are interpolated");
+inline bool interpolate(const Context& c, const Node& b, int w, int h, v4i corners) {
   const AdaptiveFrame& f = *c.f;
   if (c.exact && w == h && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
       (w == 2 || w == 4 || w == 8)) {
     interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(w), corners);
-  } else {
-    interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
+    return true;
   }
+  if (w > kMaxInterpolated || h > kMaxInterpolated) return false;
+  interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
+  return true;
 }
 
 RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
@@ -614,7 +619,6 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
                 (!is_small(f, w, h) || !low_contrast(cv, kGlassContrast[1])) && sees_glass(f, c00))) {
       kind = kSplit;
     }
-    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
     if (kind == kCopied) {
       if (c.exact) // (no kinds map, no tint: fill() would only pass it on)
         adaptive_fill(f.fb, f.stride, n.x0, n.y0, n.xEnd, n.yEnd, c00.packed);
@@ -622,10 +626,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
         fill(f, n, c00.packed);
       continue;
     }
-    if (kind == kInterpolated) {
-      interpolate(c, n, w, h, cv);
-      continue;
-    }
+    if (kind == kInterpolated && interpolate(c, n, w, h, cv)) continue;
     n.kind = kSplit; // (read by the second pass, which sees only held blocks)
     heldAt[held++] = (u8)i;
     if (base) {

@@ -320,10 +320,9 @@ RT64K_HOT_ABI void flush(Context& c) {
   b.n = 0;
 }
 
-// Asks for the sample at (x, y) into slot e[0]: traced unless already
-// traced, asked for or estimated.
-RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
-  if (e->state != kUnknown) return;
+// Puts the sample at (x, y) into the batch for slot e[0], whose state is
+// unknown (the caller's test), and marks it pending.
+RT64K_HOT_ABI void enqueue(Context& c, int x, int y, Edge e) {
   e->state = kPending;
   Batch& b = c.batch;
   int n = b.n; // (loaded once: the build has no strict aliasing)
@@ -333,6 +332,12 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   b.pixel[n] = &b.sink;
   b.n = ++n;
   if (n == kBatch) flush(c);
+}
+
+// Asks for the sample at (x, y) into slot e[0]: traced unless already
+// traced, asked for or estimated.
+inline void request(Context& c, int x, int y, Edge e) {
+  if (e->state == kUnknown) enqueue(c, x, y, e);
 }
 
 // Asks for the pixel (x, y) inside a block, which no other block reads:
@@ -365,7 +370,7 @@ RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid
     side[mid].state = kEstimated;
     return;
   }
-  request(c, x, y, side + mid);
+  enqueue(c, x, y, side + mid); // (still unknown: estimate() changes no state)
 }
 
 RT64K_HOT_ABI Edge allocate(Context& c, int count) {
@@ -658,7 +663,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       request_midpoint(c, n.x1, n.ym, n.right, b, h);
       n.h = allocate(c, w + 1);
     }
-    if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
+    if (n.splitX && n.splitY) enqueue(c, n.xm, n.ym, n.v + b); // (v is fresh: unknown)
   }
   if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];

@@ -785,10 +785,11 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, int slot, RayStats
   Node nodes[kBaseChunk];
   c.base = nodes;
   for (int i = 0; i + 1 < f.gridW;) { // base blocks i, i + 1, ... as one group
-    int count = 0, x0 = grid_coord(i, B, f.width);
-    for (int j = i; j + 1 < f.gridW && count < kBaseChunk; ++j) {
-      Node& n = nodes[count++]; // (its left and right sides: process_group, open_column)
-      int x1 = grid_coord(j + 1, B, f.width);
+    int count = f.gridW - 1 - i, x0 = grid_coord(i, B, f.width); // (one test a block)
+    if (count > kBaseChunk) count = kBaseChunk;
+    for (int k = 0; k < count; ++k) {
+      Node& n = nodes[k]; // (its left and right sides: process_group, open_column)
+      int j = i + k, x1 = grid_coord(j + 1, B, f.width);
       n.x0 = x0;
       n.y0 = y0;
       n.x1 = x1;

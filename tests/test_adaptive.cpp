@@ -574,7 +574,9 @@ TEST(AdaptiveFrame, GlassIsInterpolatedOnlyWhereItsCornersAreClose) {
   }
   // At the minimum size (base block 2 on a coarse image, the light closer:
   // steeper spans) a glass block is traced per pixel exactly where its
-  // corners span more than 64/255, else interpolated.
+  // corners span more than 64/255, else interpolated; also those spanning
+  // more than 18/255 but at most 64/255, which process_group sends past
+  // the 18/255 test (every size's first) to the size and the larger limit.
   constexpr int kCw = 17, kCh = 13, kSmallGlassContrast = 64;
   build(0.7f); // the light closer: a steeper fade
   Image img(kCw, kCh);
@@ -584,17 +586,19 @@ TEST(AdaptiveFrame, GlassIsInterpolatedOnlyWhereItsCornersAreClose) {
   opt.threads = 1;
   opt.kinds = kinds.data();
   render_frame(s, img, opt, nullptr);
-  int wide = 0, blocks = 0;
+  int wide = 0, between = 0, blocks = 0;
   for (int y = 0; y + 2 < kCh; y += 2)
     for (int x = 0; x + 2 < kCw; x += 2) {
       int span = corner_span(img, x, y, 2);
       bool traced = (kinds[size_t((y + 1) * kCw + x + 1)] & kKindMask) == kTraced;
       EXPECT_EQ(traced, span > kSmallGlassContrast) << "block at " << x << "," << y;
       wide += span > kSmallGlassContrast;
+      between += span > kGlassContrast && span <= kSmallGlassContrast;
       ++blocks;
     }
   EXPECT_GT(wide, 2);
   EXPECT_LT(wide, blocks - 2);
+  EXPECT_GT(between, blocks / 2); // (40 of 48 when written) interpolated past the 18/255 test
 }
 
 // A side's midpoint is estimated from its ends when their records agree and

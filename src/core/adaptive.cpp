@@ -114,6 +114,8 @@ inline bool estimate(const Sample& a, const Sample& b, Sample& mid) {
 // rays through glass are recorded deeper (trace.h, kRecordWeightGlass), so
 // the edges they see split by records, and the limits rose from {16, 24}.
 constexpr int kGlassContrast[2] = {18, 64};
+static_assert(kGlassContrast[0] <= kGlassContrast[1],
+              "process_group tests the smaller limit first: a block over the larger is over it");
 
 // A block of the minimum size whose corners' records differ is traced per
 // pixel, and one of up to twice that size is split, unless no colour channel
@@ -318,10 +320,9 @@ RT64K_HOT_ABI void flush(Context& c) {
   b.n = 0;
 }
 
-// Asks for the sample at (x, y) into slot e[0]: traced unless already
-// traced, asked for or estimated.
-RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
-  if (e->state != kUnknown) return;
+// Puts the sample at (x, y) into the batch for slot e[0], whose state is
+// unknown (the caller's test), and marks it pending.
+RT64K_HOT_ABI void enqueue(Context& c, int x, int y, Edge e) {
   e->state = kPending;
   Batch& b = c.batch;
   int n = b.n; // (loaded once: the build has no strict aliasing)
@@ -331,6 +332,12 @@ RT64K_HOT_ABI void request(Context& c, int x, int y, Edge e) {
   b.pixel[n] = &b.sink;
   b.n = ++n;
   if (n == kBatch) flush(c);
+}
+
+// Asks for the sample at (x, y) into slot e[0]: traced unless already
+// traced, asked for or estimated.
+inline void request(Context& c, int x, int y, Edge e) {
+  if (e->state == kUnknown) enqueue(c, x, y, e);
 }
 
 // Asks for the pixel (x, y) inside a block, which no other block reads:
@@ -363,7 +370,7 @@ RT64K_HOT_ABI void request_midpoint(Context& c, int x, int y, Edge side, int mid
     side[mid].state = kEstimated;
     return;
   }
-  request(c, x, y, side + mid);
+  enqueue(c, x, y, side + mid); // (still unknown: estimate() changes no state)
 }
 
 RT64K_HOT_ABI Edge allocate(Context& c, int count) {
@@ -473,17 +480,22 @@ RT64K_COLD RT64K_HOT_ABI void interpolate_block(const AdaptiveFrame& f, const No
 
 // Most interpolated blocks (a square of 2, 4 or 8 px inside the picture, no
 // kinds map, no tints) go straight to the exact path; the rest through
-// interpolate_block.
+// interpolate_block, but for a block wider or taller than kMaxInterpolated:
+// returns false, nothing written (the block splits). The size test here, past
+// the exact path's, not for every block that would be interpolated.
 // w and h are the block's x1 - x0 and y1 - y0 (the caller's: the build has
 // no strict aliasing, so the node's fields would be loaded again).
-inline void interpolate(const Context& c, const Node& b, int w, int h, v4i corners) {
+static_assert(kMaxInterpolated >= 8, "the exact path's blocks (2, 4, 8 px) are interpolated");
+inline bool interpolate(const Context& c, const Node& b, int w, int h, v4i corners) {
   const AdaptiveFrame& f = *c.f;
   if (c.exact && w == h && ((b.xEnd - b.x1) | (b.yEnd - b.y1)) == 0 &&
       (w == 2 || w == 4 || w == 8)) {
     interpolate_exact(f.fb + b.y0 * f.stride + b.x0, f.stride, __builtin_ctz(w), corners);
-  } else {
-    interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
+    return true;
   }
+  if (w > kMaxInterpolated || h > kMaxInterpolated) return false;
+  interpolate_block(f, b, (u32)corners[0], (u32)corners[1], (u32)corners[2], (u32)corners[3]);
+  return true;
 }
 
 RT64K_HOT_ABI bool sees_glass(const AdaptiveFrame& f, const Sample& s) {
@@ -605,11 +617,13 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
     } else if (c00.packed == c10.packed && c00.packed == c01.packed && c00.packed == c11.packed) {
       kind = kCopied;
     } else if ((cv = corner_colours(c00, c10, c01, c11), f.mode != kModeAdaptive) ||
+               // The glass limit: kGlassContrast[0] for every size first (most
+               // blocks pass it), the size and the larger limit only where it fails.
                // The four records are equal, so c00's stands for all.
-               (!low_contrast(cv, kGlassContrast[is_small(f, w, h)]) && sees_glass(f, c00))) {
+               (!low_contrast(cv, kGlassContrast[0]) &&
+                (!is_small(f, w, h) || !low_contrast(cv, kGlassContrast[1])) && sees_glass(f, c00))) {
       kind = kSplit;
     }
-    if (kind == kInterpolated && (w > kMaxInterpolated || h > kMaxInterpolated)) kind = kSplit;
     if (kind == kCopied) {
       if (c.exact) // (no kinds map, no tint: fill() would only pass it on)
         adaptive_fill(f.fb, f.stride, n.x0, n.y0, n.xEnd, n.yEnd, c00.packed);
@@ -617,10 +631,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
         fill(f, n, c00.packed);
       continue;
     }
-    if (kind == kInterpolated) {
-      interpolate(c, n, w, h, cv);
-      continue;
-    }
+    if (kind == kInterpolated && interpolate(c, n, w, h, cv)) continue;
     n.kind = kSplit; // (read by the second pass, which sees only held blocks)
     heldAt[held++] = (u8)i;
     if (base) {
@@ -652,7 +663,7 @@ RT64K_HOT_ABI int process_group(Context& c, Node* nodes, int count) {
       request_midpoint(c, n.x1, n.ym, n.right, b, h);
       n.h = allocate(c, w + 1);
     }
-    if (n.splitX && n.splitY) request(c, n.xm, n.ym, n.v + b);
+    if (n.splitX && n.splitY) enqueue(c, n.xm, n.ym, n.v + b); // (v is fresh: unknown)
   }
   if (c.batch.n) flush(c); // (most base blocks ask for nothing)
   Node kids[kGroup];
@@ -774,10 +785,11 @@ RT64K_HOT_ABI void run_band(const AdaptiveFrame& f, int band, int slot, RayStats
   Node nodes[kBaseChunk];
   c.base = nodes;
   for (int i = 0; i + 1 < f.gridW;) { // base blocks i, i + 1, ... as one group
-    int count = 0, x0 = grid_coord(i, B, f.width);
-    for (int j = i; j + 1 < f.gridW && count < kBaseChunk; ++j) {
-      Node& n = nodes[count++]; // (its left and right sides: process_group, open_column)
-      int x1 = grid_coord(j + 1, B, f.width);
+    int count = f.gridW - 1 - i, x0 = grid_coord(i, B, f.width); // (one test a block)
+    if (count > kBaseChunk) count = kBaseChunk;
+    for (int k = 0; k < count; ++k) {
+      Node& n = nodes[k]; // (its left and right sides: process_group, open_column)
+      int j = i + k, x1 = grid_coord(j + 1, B, f.width);
       n.x0 = x0;
       n.y0 = y0;
       n.x1 = x1;
